@@ -1,0 +1,220 @@
+// The untangle command line: parses (CLI11), calls the library, maps results to exit codes.
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "untangle/error.h"
+#include "untangle/intersections.h"
+#include "untangle/mesh_info.h"
+#include "untangle/read_meshes.h"
+#include "untangle/report.h"
+#include "untangle/version.h"
+
+namespace {
+
+using untangle::ExitCode;
+
+constexpr const char* kExitCodes =
+    "Exit codes:\n"
+    "  0  success: nothing intersects (check), or the command did its job\n"
+    "  1  internal error\n"
+    "  2  usage error (bad command line)\n"
+    "  3  unreadable input (missing, empty, unknown format, corrupt, no triangles,\n"
+    "     NaN or infinite coordinates, face indices out of range)\n"
+    "  4  output not written\n"
+    "  5  intersections found (check)\n";
+
+struct CommonOptions {
+  std::vector<std::string> inputs;
+  std::vector<std::string> obstacles;
+  std::string report;
+  std::string contours;
+  int threads = 0;
+  bool quiet = false;
+  bool verbose = false;
+};
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<untangle::Mesh> load_all(const CommonOptions& o) {
+  std::vector<untangle::Mesh> meshes;
+  for (const std::string& path : o.inputs) {
+    for (auto& m : untangle::read_meshes(path, untangle::Role::kMovable)) meshes.push_back(std::move(m));
+  }
+  for (const std::string& path : o.obstacles) {
+    for (auto& m : untangle::read_meshes(path, untangle::Role::kObstacle)) meshes.push_back(std::move(m));
+  }
+  return meshes;
+}
+
+// Labels name the mesh inside its file only when the file holds several.
+std::vector<std::string> labels_of(const std::vector<untangle::Mesh>& meshes) {
+  std::vector<std::string> labels;
+  for (const auto& m : meshes) {
+    std::size_t same_file = 0;
+    for (const auto& other : meshes) same_file += other.path == m.path ? 1 : 0;
+    labels.push_back(untangle::mesh_label(m, same_file > 1));
+  }
+  return labels;
+}
+
+void emit_report(const std::string& target, const std::string& json) {
+  if (target.empty()) return;
+  if (target == "-") {
+    std::fwrite(json.data(), 1, json.size(), stdout);
+    std::fflush(stdout);
+  } else {
+    untangle::write_text_file_atomically(target, json);
+  }
+}
+
+int run_info(const CommonOptions& o) {
+  const std::vector<untangle::Mesh> meshes = load_all(o);
+  std::vector<untangle::MeshInfo> infos;
+  for (const auto& m : meshes) infos.push_back(untangle::describe_mesh(m));
+  const bool human = !o.quiet && o.report != "-";
+  if (human) {
+    const std::vector<std::string> labels = labels_of(meshes);
+    for (std::size_t i = 0; i < meshes.size(); ++i) {
+      const auto& in = infos[i];
+      std::printf("%s (%s)\n", labels[i].c_str(), untangle::to_string(meshes[i].role));
+      std::printf("  vertices %zu, faces %zu, triangles %zu, welded vertices %zu\n", in.vertices,
+                  in.faces, in.triangles, in.welded_vertices);
+      std::printf("  components %zu, boundary loops %zu, non-manifold edges %zu, %s\n",
+                  in.components, in.boundary_loops, in.non_manifold_edges,
+                  in.closed ? "closed" : "open");
+      std::printf("  zero-area triangles %zu, degenerate triangles %zu\n", in.zero_area_triangles,
+                  in.degenerate_triangles);
+      if (o.verbose) {
+        std::printf("  boundary edges %zu, area %.6g, mean edge length %.6g\n", in.boundary_edges,
+                    in.area, in.mean_edge_length);
+      }
+    }
+  }
+  emit_report(o.report, untangle::info_report_json(meshes, infos));
+  return 0;
+}
+
+int run_check(const CommonOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<untangle::Mesh> meshes = load_all(o);
+  std::vector<untangle::MeshInfo> infos;
+  for (const auto& m : meshes) infos.push_back(untangle::describe_mesh(m));
+  untangle::CheckTimingsMs timings;
+  timings.load = ms_since(start);
+
+  untangle::DetectOptions options;
+  options.threads = o.threads;
+  untangle::DetectTimings detect;
+  const untangle::Intersections found = untangle::find_intersections(meshes, options, &detect);
+  timings.detect = detect.detect_ms;
+  timings.contours = detect.contours_ms;
+
+  if (!o.contours.empty()) {
+    untangle::write_text_file_atomically(o.contours, untangle::contours_obj(found));
+  }
+  timings.total = ms_since(start);
+
+  const auto& c = found.counts;
+  const bool clean = c.crossings == 0;
+  if (!o.quiet && o.report != "-") {
+    const std::vector<std::string> labels = labels_of(meshes);
+    if (o.verbose) {
+      for (std::size_t i = 0; i < meshes.size(); ++i) {
+        std::printf("mesh %zu: %s (%s), %zu vertices, %zu faces, %zu boundary loops\n", i,
+                    labels[i].c_str(), untangle::to_string(meshes[i].role), infos[i].vertices,
+                    infos[i].faces, infos[i].boundary_loops);
+      }
+    }
+    std::printf("crossings %zu, intersecting triangle pairs %zu, contours %zu (length %.6g)\n",
+                c.crossings, c.triangle_pairs, c.contours, c.contour_length);
+    if (c.contours > 0) {
+      std::printf("pairs: CL/CL %zu, BB/II %zu, BI/BI %zu, self %zu, other %zu; "
+                  "loop vertices %zu, non-separating tracks %zu\n",
+                  c.pairs_cl_cl, c.pairs_bb_ii, c.pairs_bi_bi, c.pairs_self, c.pairs_other,
+                  c.loop_vertices, c.non_separating);
+    }
+    if (o.verbose) {
+      for (std::size_t k = 0; k < found.contours.size(); ++k) {
+        const auto& ct = found.contours[k];
+        std::printf("  contour %zu: %s %s/%s %s, %zu crossings, length %.6g\n", k,
+                    labels[ct.tracks[0].mesh].c_str(), untangle::to_string(ct.tracks[0].type),
+                    untangle::to_string(ct.tracks[1].type), labels[ct.tracks[1].mesh].c_str(),
+                    ct.crossings.size(), ct.length);
+      }
+    }
+    std::printf("status: %s\n", clean ? "clean" : "intersecting");
+  }
+  emit_report(o.report, untangle::check_report_json(meshes, infos, found, timings));
+  return clean ? 0 : static_cast<int>(ExitCode::kIntersecting);
+}
+
+void add_common(CLI::App& cmd, CommonOptions& o, bool with_check_options) {
+  cmd.add_option("meshes", o.inputs, "Mesh files (every format assimp reads)")->required();
+  cmd.add_option("--report", o.report, "Write a JSON report to FILE ('-' = stdout, which then carries nothing else)")
+      ->option_text("FILE");
+  cmd.add_flag("-q,--quiet", o.quiet, "Print nothing but errors");
+  cmd.add_flag("-v,--verbose", o.verbose, "Print more detail");
+  if (with_check_options) {
+    cmd.add_option("--obstacle", o.obstacles, "A mesh that never moves (repeatable)")
+        ->option_text("MESH");
+    cmd.add_option("--contours", o.contours, "Write the contour polylines as OBJ to FILE")
+        ->option_text("FILE");
+    cmd.add_option("--threads", o.threads, "Worker threads, 0 = all cores (same result for every N)")
+        ->check(CLI::NonNegativeNumber)
+        ->option_text("N");
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"untangle: find and repair intersecting triangle meshes (garments, bodies, cloth)",
+               "untangle"};
+  app.footer(kExitCodes);
+  app.set_version_flag("--version", untangle::version_text(), "Print the versions of untangle, CGAL, assimp and Eigen");
+  app.require_subcommand(1);
+
+  CommonOptions info_options, check_options;
+  CLI::App* info = app.add_subcommand("info", "Describe each mesh: counts, boundary loops, closedness");
+  add_common(*info, info_options, false);
+  info->footer(kExitCodes);
+  CLI::App* check = app.add_subcommand(
+      "check", "Find every crossing between and within meshes; build and classify contours");
+  add_common(*check, check_options, true);
+  check->footer(kExitCodes);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::fprintf(stderr, "error: %s\nRun 'untangle --help' for usage.\n", e.what());
+    return static_cast<int>(ExitCode::kUsage);
+  }
+
+  try {
+    if (info->parsed()) return run_info(info_options);
+    if (check->parsed()) return run_check(check_options);
+  } catch (const untangle::Error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return static_cast<int>(e.code());
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "error: out of memory\n");
+    return static_cast<int>(ExitCode::kInternal);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: internal: %s\n", e.what());
+    return static_cast<int>(ExitCode::kInternal);
+  }
+  return static_cast<int>(ExitCode::kUsage);
+}

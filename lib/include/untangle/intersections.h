@@ -1,0 +1,93 @@
+// Finding intersections: crossings (edge through face), contours and their track types.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "untangle/mesh.h"
+
+namespace untangle {
+
+// Track types of the paper (§II): closed; both ends on this track's mesh boundary; one end on the
+// boundary and one inside; both ends inside.
+enum class TrackType { kCL, kBB, kBI, kII };
+const char* to_string(TrackType type);
+
+// An edge of mesh `edge_mesh` passing through the interior of triangle `face` of mesh `face_mesh`
+// (possibly the same mesh), the two sharing no vertex. Decided with exact predicates under one
+// symbolic perturbation, so degenerate input (vertex on face, edge through edge, coplanar or
+// duplicated geometry) still yields 0 or 2 crossings per pair of triangles sharing no vertex.
+struct Crossing {
+  std::uint32_t edge_mesh = 0;
+  std::uint32_t edge_v0 = 0, edge_v1 = 0;  // the edge, as input vertex indices of edge_mesh
+  std::uint32_t face_mesh = 0;
+  std::uint32_t face = 0;  // triangle index in face_mesh
+  Vec3 point{};            // e ∩ f, constructed in double (steers, never decides)
+};
+
+// A contour seen on one surface.
+struct Track {
+  std::uint32_t mesh = 0;
+  TrackType type = TrackType::kCL;
+  std::size_t boundary_ends = 0;
+  std::size_t cut_edges = 0;  // edges of this mesh crossed an odd number of times by the contour
+  // For CL and BB tracks: whether cutting those edges splits the mesh component the track lies on
+  // (vertex flood fill, DESIGN §4), and the area of the smaller side (triangle areas shared equally
+  // among their corners). A track that cuts no edge encloses no vertex and does not separate.
+  bool separates = false;
+  double smaller_area = 0.0;
+};
+
+// An intersection curve: a maximal chain of crossings linked through intersecting triangle pairs.
+struct Contour {
+  std::array<Track, 2> tracks;  // tracks[0] holds the edge of the first crossing
+  bool closed = false;
+  bool self = false;                // both tracks on the same mesh
+  std::size_t loop_vertices = 0;    // ends at a vertex shared by the two intersecting triangles
+  std::size_t branch_points = 0;    // crossings on non-manifold edges (3+ faces)
+  std::vector<std::uint32_t> crossings;  // indices into Intersections::crossings, in walk order
+  std::vector<Vec3> polyline;  // the crossing points (and loop vertices) in walk order
+  double length = 0.0;          // polyline length, closing segment included when closed
+};
+
+// Counts of one detection (the report's `before` / `after` objects).
+struct IntersectionCounts {
+  std::size_t crossings = 0;
+  std::size_t triangle_pairs = 0;  // distinct intersecting triangle pairs (sharing no edge)
+  std::size_t contours = 0;
+  double contour_length = 0.0;
+  std::array<std::size_t, 4> tracks{};  // by TrackType
+  std::size_t pairs_cl_cl = 0, pairs_bb_ii = 0, pairs_bi_bi = 0, pairs_self = 0, pairs_other = 0;
+  std::size_t loop_vertices = 0;
+  std::size_t non_separating = 0;  // CL or BB tracks that separate nothing
+  std::size_t branch_points = 0;
+  // Contours whose walk failed (a crossing link without partner). Always 0 unless the 0-or-2
+  // crossings property is violated, i.e. a bug; the property tests assert it.
+  std::size_t broken = 0;
+};
+
+struct Intersections {
+  std::vector<Crossing> crossings;  // sorted by (edge mesh, edge, face mesh, face)
+  std::vector<Contour> contours;    // in a deterministic order (by their first crossing)
+  IntersectionCounts counts;
+  // Intersecting triangle pairs as (mesh, triangle) pairs, each pair ordered, sorted.
+  std::vector<std::array<std::uint32_t, 4>> triangle_pairs;
+};
+
+struct DetectOptions {
+  int threads = 0;  // 0 = all cores; the result is identical for every value
+};
+
+struct DetectTimings {
+  double detect_ms = 0.0;    // topology, broad and narrow phase
+  double contours_ms = 0.0;  // linking, classification, flood fills
+};
+
+// Finds every crossing between every pair of meshes and within each mesh, builds contours and
+// classifies their tracks. Deterministic. Never prints. Thread-safe for distinct inputs.
+Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOptions& options = {},
+                                 DetectTimings* timings = nullptr);
+
+}  // namespace untangle

@@ -1,0 +1,35 @@
+// Plain-data triangle mesh as read from a file: world-space positions, triangles, role.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace untangle {
+
+using Vec3 = std::array<double, 3>;
+using Triangle = std::array<std::uint32_t, 3>;
+
+// A movable mesh may be displaced; an obstacle never moves (infinite mass).
+enum class Role { kMovable, kObstacle };
+
+const char* to_string(Role role);
+
+// One mesh of a scene. Positions are in world space (node transforms applied) and indexed as in
+// the file (vertex order preserved, nothing welded). Polygons are triangulated as fans; `polygon`
+// gives, per triangle, the index of the face it came from in the file's mesh.
+struct Mesh {
+  std::string path;  // file the mesh came from
+  std::string name;  // mesh name inside the file (may be empty)
+  Role role = Role::kMovable;
+  std::vector<Vec3> positions;
+  std::vector<Triangle> triangles;  // indices into positions
+  std::vector<std::uint32_t> polygon;  // per triangle: the source face index
+  std::size_t source_faces = 0;        // faces in the file (before triangulation)
+};
+
+// A label for messages and reports: "path" or "path:name" when the file holds several meshes.
+std::string mesh_label(const Mesh& mesh, bool with_name);
+
+}  // namespace untangle

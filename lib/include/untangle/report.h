@@ -1,0 +1,39 @@
+// JSON reports and contour polylines: what `info` and `check` write for people and pipelines.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "untangle/intersections.h"
+#include "untangle/mesh.h"
+#include "untangle/mesh_info.h"
+
+namespace untangle {
+
+inline constexpr int kReportSchemaVersion = 1;
+
+struct CheckTimingsMs {
+  double load = 0.0, detect = 0.0, contours = 0.0, total = 0.0;
+};
+
+// The `info` report: schema_version, command, meshes (path, name, role, and every MeshInfo field).
+std::string info_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos);
+
+// The `check` report. Keys and their order are stable; only timing_ms varies between runs.
+// schema_version, command, status (clean | intersecting), meshes (path, name, role, vertices,
+// faces, boundary_loops), before (crossings, triangle_pairs, contours, contour_length, tracks,
+// pairs, loop_vertices, non_separating, branch_points), contours (meshes, types, closed, self,
+// crossings, length, loop_vertices, separates, smaller_area, cut_edges), timing_ms.
+std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
+                              const Intersections& found, const CheckTimingsMs& timings);
+
+// OBJ text of the contour polylines: one object per contour named
+// `contour_<k>_<type0>_<type1>` (with `_self` for self-intersections), `l` elements through its
+// points, closed contours returning to their first point.
+std::string contours_obj(const Intersections& found);
+
+// Writes `text` to `path` through a temporary file in the same folder and a rename, so that no
+// partial file is ever left. Throws Error(kOutputNotWritten) naming the path.
+void write_text_file_atomically(const std::string& path, const std::string& text);
+
+}  // namespace untangle

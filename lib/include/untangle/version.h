@@ -1,0 +1,11 @@
+// Version of untangle and of the libraries it was built with.
+#pragma once
+
+#include <string>
+
+namespace untangle {
+
+// "untangle X.Y.Z" followed by one line each for CGAL, assimp and Eigen.
+std::string version_text();
+
+}  // namespace untangle

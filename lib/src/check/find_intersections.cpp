@@ -1,0 +1,42 @@
+// find_intersections: topology, detection, contours, counts (the `check` pipeline).
+#include "untangle/intersections.h"
+
+#include <chrono>
+
+#include "check/summarize.h"
+#include "contour/build_contours.h"
+#include "detect/detect_crossings.h"
+#include "topology/scene_topology.h"
+
+namespace untangle {
+
+const char* to_string(TrackType type) {
+  switch (type) {
+    case TrackType::kCL: return "CL";
+    case TrackType::kBB: return "BB";
+    case TrackType::kBI: return "BI";
+    case TrackType::kII: return "II";
+  }
+  return "?";
+}
+
+Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOptions& options,
+                                 DetectTimings* timings) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  const SceneTopology topo = build_topology(meshes);
+  DetectSettings settings;
+  settings.threads = options.threads;
+  const CrossingSet set = detect_crossings(topo, settings);
+  const auto t1 = Clock::now();
+  const std::vector<TracedContour> traced = build_contours(topo, set);
+  Intersections result = summarize(topo, set, traced);
+  const auto t2 = Clock::now();
+  if (timings != nullptr) {
+    timings->detect_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    timings->contours_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
+  }
+  return result;
+}
+
+}  // namespace untangle

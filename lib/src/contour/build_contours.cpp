@@ -1,0 +1,341 @@
+// Contours: walk crossings through intersecting triangle pairs; classify tracks; flood fills.
+#include "contour/build_contours.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace untangle {
+namespace {
+
+enum class LinkKind : std::uint8_t { kCrossing, kBoundary, kLoop, kBroken };
+
+// One way out of a crossing: through one triangle t incident to its edge, the segment t ∩ f leads
+// to another crossing, a loop vertex, or (boundary edge) nowhere.
+struct Link {
+  LinkKind kind = LinkKind::kBroken;
+  std::uint32_t target = kNone;  // crossing index, or loop vertex id
+  std::array<std::uint32_t, 2> pair{kNone, kNone};  // the triangle pair, ordered
+  bool swap = false;  // the next crossing's edge lies on the other track
+};
+
+bool has_vertex(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
+  return tri[0] == v || tri[1] == v || tri[2] == v;
+}
+
+double distance(const Vec3& a, const Vec3& b) {
+  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+  return std::sqrt(dx * dx + dy * dy + dz * dz);
+}
+
+double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const Vec3 v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const Vec3 n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+// The partner of crossing `ci` = (e, f) inside the triangle pair (t, f), t incident to e.
+Link follow(const SceneTopology& topo, const CrossingSet& set, std::uint32_t ci, std::uint32_t t) {
+  const RawCrossing& c = set.items[ci];
+  const std::uint32_t f = c.face;
+  Link link;
+  link.pair = {std::min(t, f), std::max(t, f)};
+  const auto& tt = topo.tris[t];
+  const auto& ff = topo.tris[f];
+  std::size_t found = 0;
+  for (int k = 0; k < 3; ++k) {  // another edge of t through f: same roles
+    const std::uint32_t e = topo.tri_edges[t][k];
+    if (e == c.edge || has_vertex(ff, tt[k]) || has_vertex(ff, tt[(k + 1) % 3])) continue;
+    const std::uint32_t other = set.find(e, f);
+    if (other != kNone) {
+      link.kind = LinkKind::kCrossing;
+      link.target = other;
+      link.swap = false;
+      ++found;
+    }
+  }
+  for (int k = 0; k < 3; ++k) {  // an edge of f through t: the roles swap
+    const std::uint32_t g = topo.tri_edges[f][k];
+    if (has_vertex(tt, ff[k]) || has_vertex(tt, ff[(k + 1) % 3])) continue;
+    const std::uint32_t other = set.find(g, t);
+    if (other != kNone) {
+      link.kind = LinkKind::kCrossing;
+      link.target = other;
+      link.swap = true;
+      ++found;
+    }
+  }
+  if (found == 1) return link;
+  if (found == 0) {
+    for (std::uint32_t v : tt) {
+      if (has_vertex(ff, v)) {  // t ∩ f runs from the crossing to the shared vertex
+        link.kind = LinkKind::kLoop;
+        link.target = v;
+        return link;
+      }
+    }
+  }
+  link.kind = LinkKind::kBroken;
+  link.target = kNone;
+  return link;
+}
+
+}  // namespace
+
+std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
+                          const std::vector<std::uint8_t>& edge_is_cut,
+                          std::vector<std::uint32_t>& region) {
+  const std::uint32_t begin = topo.mesh_vertex_begin[mesh];
+  const std::uint32_t end = topo.mesh_vertex_begin[mesh + 1];
+  region.assign(end - begin, kNone);
+  std::size_t count = 0;
+  std::vector<std::uint32_t> stack;
+  for (std::uint32_t seed = begin; seed < end; ++seed) {
+    if (region[seed - begin] != kNone) continue;
+    const std::uint32_t id = static_cast<std::uint32_t>(count++);
+    region[seed - begin] = id;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const std::uint32_t v = stack.back();
+      stack.pop_back();
+      for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+        const std::uint32_t e = topo.vertex_edges[i];
+        if (edge_is_cut[e]) continue;
+        const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
+        if (region[w - begin] == kNone) {
+          region[w - begin] = id;
+          stack.push_back(w);
+        }
+      }
+    }
+  }
+  return count;
+}
+
+std::vector<TracedContour> build_contours(const SceneTopology& topo, const CrossingSet& set) {
+  const std::size_t n = set.items.size();
+  // Links of every crossing, one per triangle incident to its edge (boundary edges add an end).
+  std::vector<std::uint32_t> link_begin(n + 1, 0);
+  std::vector<Link> links;
+  for (std::uint32_t ci = 0; ci < n; ++ci) {
+    link_begin[ci] = static_cast<std::uint32_t>(links.size());
+    const std::uint32_t e = set.items[ci].edge;
+    for (std::uint32_t i = topo.edge_face_begin[e]; i < topo.edge_face_begin[e + 1]; ++i) {
+      links.push_back(follow(topo, set, ci, topo.edge_faces[i]));
+    }
+    if (topo.is_boundary(e)) {
+      Link end;
+      end.kind = LinkKind::kBoundary;
+      end.target = e;
+      links.push_back(end);
+    }
+  }
+  link_begin[n] = static_cast<std::uint32_t>(links.size());
+
+  // Components through crossing links, in order of their lowest crossing.
+  std::vector<std::uint32_t> component(n, kNone);
+  std::vector<std::vector<std::uint32_t>> members;
+  for (std::uint32_t s = 0; s < n; ++s) {
+    if (component[s] != kNone) continue;
+    const std::uint32_t id = static_cast<std::uint32_t>(members.size());
+    members.emplace_back();
+    std::vector<std::uint32_t> stack{s};
+    component[s] = id;
+    while (!stack.empty()) {
+      const std::uint32_t c = stack.back();
+      stack.pop_back();
+      members[id].push_back(c);
+      for (std::uint32_t i = link_begin[c]; i < link_begin[c + 1]; ++i) {
+        if (links[i].kind != LinkKind::kCrossing || component[links[i].target] != kNone) continue;
+        component[links[i].target] = id;
+        stack.push_back(links[i].target);
+      }
+    }
+    std::sort(members[id].begin(), members[id].end());
+  }
+
+  std::vector<TracedContour> out;
+  out.reserve(members.size());
+  std::vector<std::uint8_t> label(n, 0);
+  for (const std::vector<std::uint32_t>& nodes : members) {
+    TracedContour traced;
+    Contour& contour = traced.contour;
+    bool branched = false;
+    std::uint32_t start = nodes.front();
+    bool start_found = false;
+    for (std::uint32_t c : nodes) {
+      std::size_t crossing_links = 0;
+      bool end = false;
+      for (std::uint32_t i = link_begin[c]; i < link_begin[c + 1]; ++i) {
+        if (links[i].kind == LinkKind::kCrossing) ++crossing_links;
+        else end = true;
+        if (links[i].kind == LinkKind::kBroken) traced.broken = true;
+      }
+      if (topo.edge_face_count(set.items[c].edge) >= 3) {
+        branched = true;
+        ++contour.branch_points;
+      }
+      if (end && !start_found) {
+        start = c;
+        start_found = true;
+      }
+    }
+
+    std::vector<std::uint32_t> order;
+    std::vector<std::uint8_t> track;
+    if (!branched) {
+      // Walk the chain (or cycle) from an end, never leaving through the pair we came in by.
+      order.push_back(start);
+      track.push_back(0);
+      std::array<std::uint32_t, 2> arrival{kNone, kNone};
+      std::uint32_t cur = start;
+      for (;;) {
+        const Link* next = nullptr;
+        for (std::uint32_t i = link_begin[cur]; i < link_begin[cur + 1]; ++i) {
+          if (links[i].kind == LinkKind::kCrossing && links[i].pair != arrival) {
+            next = &links[i];
+            break;
+          }
+        }
+        if (next == nullptr) break;
+        const std::uint8_t lab = static_cast<std::uint8_t>(track.back() ^ (next->swap ? 1 : 0));
+        if (next->target == start) {
+          contour.closed = true;
+          break;
+        }
+        if (order.size() > nodes.size()) {  // cannot happen on a simple chain; never loop forever
+          traced.broken = true;
+          break;
+        }
+        order.push_back(next->target);
+        track.push_back(lab);
+        arrival = next->pair;
+        cur = next->target;
+      }
+      if (order.size() != nodes.size()) traced.broken = true;
+    } else {
+      // Non-manifold edges branch the curve: keep every crossing, labels by breadth-first search.
+      std::vector<std::uint8_t> seen(n, 0);
+      order.push_back(start);
+      track.push_back(0);
+      seen[start] = 1;
+      for (std::size_t k = 0; k < order.size(); ++k) {
+        const std::uint32_t c = order[k];
+        for (std::uint32_t i = link_begin[c]; i < link_begin[c + 1]; ++i) {
+          if (links[i].kind != LinkKind::kCrossing || seen[links[i].target]) continue;
+          seen[links[i].target] = 1;
+          order.push_back(links[i].target);
+          track.push_back(static_cast<std::uint8_t>(track[k] ^ (links[i].swap ? 1 : 0)));
+        }
+      }
+    }
+    for (std::size_t k = 0; k < order.size(); ++k) label[order[k]] = track[k];
+
+    const RawCrossing& first = set.items[order.front()];
+    contour.tracks[0].mesh = topo.edge_mesh(first.edge);
+    contour.tracks[1].mesh = topo.tri_mesh[first.face];
+    contour.self = contour.tracks[0].mesh == contour.tracks[1].mesh;
+
+    // Ends: boundary edges count for the track holding the edge; loop vertices for neither.
+    std::vector<std::uint32_t> loop_ends;
+    for (std::uint32_t c : order) {
+      for (std::uint32_t i = link_begin[c]; i < link_begin[c + 1]; ++i) {
+        if (links[i].kind == LinkKind::kBoundary) ++contour.tracks[label[c]].boundary_ends;
+        if (links[i].kind == LinkKind::kLoop) loop_ends.push_back(links[i].target);
+      }
+    }
+    contour.loop_vertices = loop_ends.size();
+    traced.loop_vertex_ids = loop_ends;
+
+    // Polyline: loop vertex, crossing points, loop vertex.
+    auto loop_of = [&](std::uint32_t c) -> std::uint32_t {
+      for (std::uint32_t i = link_begin[c]; i < link_begin[c + 1]; ++i)
+        if (links[i].kind == LinkKind::kLoop) return links[i].target;
+      return kNone;
+    };
+    if (!contour.closed && !branched) {
+      const std::uint32_t lv = loop_of(order.front());
+      if (lv != kNone) contour.polyline.push_back(topo.points[lv]);
+    }
+    for (std::uint32_t c : order) contour.polyline.push_back(set.items[c].point);
+    if (!contour.closed && !branched && order.size() > 1) {
+      const std::uint32_t lv = loop_of(order.back());
+      if (lv != kNone) contour.polyline.push_back(topo.points[lv]);
+    }
+    for (std::size_t k = 1; k < contour.polyline.size(); ++k)
+      contour.length += distance(contour.polyline[k - 1], contour.polyline[k]);
+    if (contour.closed && contour.polyline.size() > 2)
+      contour.length += distance(contour.polyline.back(), contour.polyline.front());
+
+    contour.crossings = order;
+    traced.edge_track = track;
+    out.push_back(std::move(traced));
+  }
+
+  // Track types, cut edges and separation.
+  std::vector<double> vertex_area(topo.points.size(), 0.0);
+  for (const auto& tri : topo.tris) {
+    const double a = triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]);
+    for (std::uint32_t v : tri) vertex_area[v] += a / 3.0;
+  }
+  std::vector<std::uint8_t> cut(topo.edges.size(), 0);
+  std::vector<std::uint32_t> region;
+  for (TracedContour& traced : out) {
+    Contour& contour = traced.contour;
+    for (int k = 0; k < 2; ++k) {
+      Track& track = contour.tracks[k];
+      if (contour.closed) track.type = TrackType::kCL;
+      else if (track.boundary_ends >= 2) track.type = TrackType::kBB;
+      else if (track.boundary_ends == 1) track.type = TrackType::kBI;
+      else track.type = TrackType::kII;
+
+      std::vector<std::uint32_t> edges;
+      for (std::size_t i = 0; i < contour.crossings.size(); ++i)
+        if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
+      std::sort(edges.begin(), edges.end());
+      std::vector<std::uint32_t> odd;
+      for (std::size_t i = 0; i < edges.size();) {
+        std::size_t j = i;
+        while (j < edges.size() && edges[j] == edges[i]) ++j;
+        if ((j - i) % 2 == 1) odd.push_back(edges[i]);
+        i = j;
+      }
+      track.cut_edges = odd.size();
+      if (track.type != TrackType::kCL && track.type != TrackType::kBB) continue;
+      if (odd.empty()) {  // cuts off no vertex: a disk inside faces, or a sliver at the boundary
+        track.separates = true;
+        continue;
+      }
+      for (std::uint32_t e : odd) cut[e] = 1;
+      flood_regions(topo, track.mesh, cut, region);
+      const std::uint32_t base = topo.mesh_vertex_begin[track.mesh];
+      for (std::uint32_t e : odd) {
+        if (region[topo.edges[e][0] - base] != region[topo.edges[e][1] - base]) track.separates = true;
+      }
+      if (track.separates) {
+        // Area of each region touching a cut edge; triangle areas shared equally by their corners.
+        std::vector<double> area;
+        for (std::uint32_t v = base; v < topo.mesh_vertex_begin[track.mesh + 1]; ++v) {
+          const std::uint32_t r = region[v - base];
+          if (r >= area.size()) area.resize(r + 1, 0.0);
+          area[r] += vertex_area[v];
+        }
+        std::vector<std::uint32_t> touched;
+        for (std::uint32_t e : odd) {
+          touched.push_back(region[topo.edges[e][0] - base]);
+          touched.push_back(region[topo.edges[e][1] - base]);
+        }
+        std::sort(touched.begin(), touched.end());
+        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+        double smallest = area[touched.front()];
+        for (std::uint32_t r : touched) smallest = std::min(smallest, area[r]);
+        track.smaller_area = smallest;
+      }
+      for (std::uint32_t e : odd) cut[e] = 0;
+    }
+  }
+  return out;
+}
+
+}  // namespace untangle

@@ -1,0 +1,34 @@
+// Linking crossings into contours and classifying their tracks (DESIGN §3).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "detect/detect_crossings.h"
+#include "topology/scene_topology.h"
+#include "untangle/intersections.h"
+
+namespace untangle {
+
+// A contour with the bookkeeping later stages need: for each of its crossings (in walk order), the
+// track (0 or 1) that holds the crossing's edge; the other track holds its face.
+struct TracedContour {
+  Contour contour;  // crossings index into CrossingSet::items
+  std::vector<std::uint8_t> edge_track;
+  std::vector<std::uint32_t> loop_vertex_ids;  // welded ids of its loop vertices
+  bool broken = false;  // a link without partner: the 0-or-2 property failed (a bug if ever true)
+};
+
+// Builds the contours of a crossing set and classifies both tracks of each: type from the ends on
+// each track's mesh boundary, cut edges, and (for CL and BB tracks) separation by flood fill.
+std::vector<TracedContour> build_contours(const SceneTopology& topology,
+                                          const CrossingSet& crossings);
+
+// Regions of one mesh after cutting `cut_edges` (edges of that mesh): region id per welded vertex
+// of the mesh (index v - mesh_vertex_begin[mesh]); vertices reachable without crossing a cut edge
+// share a region. Regions are numbered in order of their lowest vertex. Returns the region count.
+std::size_t flood_regions(const SceneTopology& topology, std::uint32_t mesh,
+                          const std::vector<std::uint8_t>& edge_is_cut,
+                          std::vector<std::uint32_t>& region);
+
+}  // namespace untangle

@@ -1,0 +1,166 @@
+// Detection: CGAL box intersection for candidate pairs, exact perturbed predicates for crossings.
+#include "detect/detect_crossings.h"
+
+#include <CGAL/Bbox_3.h>
+#include <CGAL/Box_intersection_d/Box_with_info_d.h>
+#include <CGAL/box_intersection_d.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+
+#include "detect/orientation.h"
+
+namespace untangle {
+namespace {
+
+using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t,
+                                                      CGAL::Box_intersection_d::ID_EXPLICIT>;
+
+int shared_vertices(const std::array<std::uint32_t, 3>& a, const std::array<std::uint32_t, 3>& b) {
+  int n = 0;
+  for (std::uint32_t x : a)
+    for (std::uint32_t y : b)
+      if (x == y) ++n;
+  return n;
+}
+
+bool contains(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
+  return tri[0] == v || tri[1] == v || tri[2] == v;
+}
+
+// Tests the edges of `t` that t owns (t is their lowest incident triangle) and that share no vertex
+// with `f`, against f.
+void test_owned_edges(const SceneTopology& topo, std::uint32_t t, std::uint32_t f,
+                      std::vector<RawCrossing>& out) {
+  const auto& tri = topo.tris[t];
+  const auto& face = topo.tris[f];
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t e = topo.tri_edges[t][k];
+    if (topo.edge_faces[topo.edge_face_begin[e]] != t) continue;
+    const std::uint32_t p = tri[k], q = tri[(k + 1) % 3];
+    if (contains(face, p) || contains(face, q)) continue;
+    if (edge_crosses_triangle(topo.points, p, q, face[0], face[1], face[2])) {
+      out.push_back({e, f,
+                     crossing_point(topo.points[p], topo.points[q], topo.points[face[0]],
+                                    topo.points[face[1]], topo.points[face[2]])});
+    }
+  }
+}
+
+template <class Body>
+void run_parallel(int threads, std::size_t n, std::size_t grain, const Body& body) {
+  auto loop = [&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+  };
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
+    arena.execute(loop);
+  } else {
+    loop();
+  }
+}
+
+}  // namespace
+
+std::uint32_t CrossingSet::find(std::uint32_t edge, std::uint32_t face) const {
+  auto it = std::lower_bound(items.begin(), items.end(), std::make_pair(edge, face),
+                             [](const RawCrossing& c, const std::pair<std::uint32_t, std::uint32_t>& k) {
+                               return c.edge != k.first ? c.edge < k.first : c.face < k.second;
+                             });
+  if (it == items.end() || it->edge != edge || it->face != face) return kNone;
+  return static_cast<std::uint32_t>(it - items.begin());
+}
+
+bool edge_crosses_triangle(const std::vector<Vec3>& points, std::uint32_t p, std::uint32_t q,
+                           std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+  const int sp = orient_sos(points, a, b, c, p);
+  const int sq = orient_sos(points, a, b, c, q);
+  if (sp == sq) return false;
+  // The line pq meets the triangle's interior iff it turns the same way around all three edges.
+  const int s1 = orient_sos(points, p, q, a, b);
+  const int s2 = orient_sos(points, p, q, b, c);
+  if (s1 != s2) return false;
+  return orient_sos(points, p, q, c, a) == s1;
+}
+
+Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const Vec3 v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const Vec3 n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  const double dp = n[0] * (p[0] - a[0]) + n[1] * (p[1] - a[1]) + n[2] * (p[2] - a[2]);
+  const double dq = n[0] * (q[0] - a[0]) + n[1] * (q[1] - a[1]) + n[2] * (q[2] - a[2]);
+  double s = 0.5;  // degenerate (coplanar) configurations: the perturbation decided, use the middle
+  if (dp != dq) s = dp / (dp - dq);
+  if (!(s >= 0.0)) s = 0.0;
+  if (s > 1.0) s = 1.0;
+  return {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])};
+}
+
+std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& topo,
+                                                          const DetectSettings& settings) {
+  std::vector<Box> boxes;
+  boxes.reserve(topo.tris.size());
+  for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
+    const auto& tri = topo.tris[t];
+    CGAL::Bbox_3 box;
+    for (std::uint32_t v : tri) {
+      const Vec3& p = topo.points[v];
+      box += CGAL::Bbox_3(p[0], p[1], p[2], p[0], p[1], p[2]);
+    }
+    boxes.emplace_back(box, t);
+  }
+  std::vector<std::array<std::uint32_t, 2>> pairs;
+  const bool filter = !settings.skip_among.empty();
+  auto callback = [&](const Box& a, const Box& b) {
+    std::uint32_t t = a.info(), u = b.info();
+    if (t > u) std::swap(t, u);
+    if (filter && settings.skip_among[topo.tri_mesh[t]] && settings.skip_among[topo.tri_mesh[u]])
+      return;
+    if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) return;
+    pairs.push_back({t, u});
+  };
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+CrossingSet detect_crossings(const SceneTopology& topo, const DetectSettings& settings) {
+  const std::vector<std::array<std::uint32_t, 2>> pairs = candidate_pairs(topo, settings);
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (pairs.size() + kBlock - 1) / kBlock;
+  std::vector<std::vector<RawCrossing>> found(blocks);
+  run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t block = begin; block < end; ++block) {
+      const std::size_t last = std::min(pairs.size(), (block + 1) * kBlock);
+      for (std::size_t i = block * kBlock; i < last; ++i) {
+        test_owned_edges(topo, pairs[i][0], pairs[i][1], found[block]);
+        test_owned_edges(topo, pairs[i][1], pairs[i][0], found[block]);
+      }
+    }
+  });
+  CrossingSet set;
+  for (auto& block : found) set.items.insert(set.items.end(), block.begin(), block.end());
+  std::sort(set.items.begin(), set.items.end(), [](const RawCrossing& a, const RawCrossing& b) {
+    return a.edge != b.edge ? a.edge < b.edge : a.face < b.face;
+  });
+  return set;
+}
+
+std::vector<std::array<std::uint32_t, 2>> intersecting_pairs(const SceneTopology& topo,
+                                                             const CrossingSet& crossings) {
+  std::vector<std::array<std::uint32_t, 2>> pairs;
+  for (const RawCrossing& c : crossings.items) {
+    for (std::uint32_t i = topo.edge_face_begin[c.edge]; i < topo.edge_face_begin[c.edge + 1]; ++i) {
+      const std::uint32_t t = topo.edge_faces[i];
+      pairs.push_back({std::min(t, c.face), std::max(t, c.face)});
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
+}
+
+}  // namespace untangle

@@ -1,0 +1,54 @@
+// Broad and narrow phase: every edge-through-face crossing of a scene, decided exactly.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "topology/scene_topology.h"
+
+namespace untangle {
+
+// A crossing in global topology ids: edge `edge` passes through the interior of triangle `face`.
+struct RawCrossing {
+  std::uint32_t edge = 0;
+  std::uint32_t face = 0;
+  Vec3 point{};
+};
+
+// Crossings sorted by (edge, face), unique.
+struct CrossingSet {
+  std::vector<RawCrossing> items;
+  // Index of the crossing (edge, face), or kNone.
+  std::uint32_t find(std::uint32_t edge, std::uint32_t face) const;
+};
+
+struct DetectSettings {
+  int threads = 0;
+  // Pairs of triangles that both belong to meshes flagged here are not tested (obstacles that
+  // never move need no re-detection among themselves). Empty = test every pair.
+  std::vector<bool> skip_among;
+};
+
+// Whether edge (p, q) passes through triangle (a, b, c) under the symbolic perturbation; ids are
+// global welded vertex ids into `points`. The edge must share no vertex with the triangle.
+bool edge_crosses_triangle(const std::vector<Vec3>& points, std::uint32_t p, std::uint32_t q,
+                           std::uint32_t a, std::uint32_t b, std::uint32_t c);
+
+// The crossing point constructed in double (within the segment; steering only).
+Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c);
+
+// Candidate triangle pairs (t < u) whose closed bounding boxes overlap and that share no edge,
+// sorted.
+std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& topology,
+                                                          const DetectSettings& settings);
+
+// Every crossing. Each edge is tested against a face only from its lowest incident triangle.
+CrossingSet detect_crossings(const SceneTopology& topology, const DetectSettings& settings);
+
+// Distinct intersecting triangle pairs (t < u), sorted: a pair intersects iff an edge of one
+// crosses the other.
+std::vector<std::array<std::uint32_t, 2>> intersecting_pairs(const SceneTopology& topology,
+                                                             const CrossingSet& crossings);
+
+}  // namespace untangle

@@ -1,0 +1,129 @@
+// Exact orientation with Simulation of Simplicity for the zero cases.
+#include "detect/orientation.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Exact_rational.h>
+
+#include <algorithm>
+#include <array>
+#include <utility>
+
+namespace untangle {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Exact = CGAL::Exact_rational;
+
+// One term of the perturbed 4x4 determinant |x y z 1| (rows = points sorted by id): the set S of
+// perturbed entries (row, column) it multiplies, and the permutations consistent with S with their
+// signs. Its coefficient is sum over those permutations of sign * product of unperturbed entries
+// on the rows outside S.
+struct Term {
+  std::uint32_t exponent = 0;  // sum of 2^(3r + 2 - c) over S (r, c from 0): smaller dominates
+  std::array<int, 4> fixed_row_col{-1, -1, -1, -1};  // column taken by S in each row, or -1
+  std::vector<std::pair<std::array<int, 4>, int>> permutations;
+};
+
+int permutation_sign(const std::array<int, 4>& p) {
+  int inversions = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j)
+      if (p[i] > p[j]) ++inversions;
+  return inversions % 2 == 0 ? 1 : -1;
+}
+
+std::vector<Term> make_terms() {
+  std::vector<std::array<int, 4>> perms;
+  std::array<int, 4> p{0, 1, 2, 3};
+  do perms.push_back(p);
+  while (std::next_permutation(p.begin(), p.end()));
+
+  std::vector<Term> terms;
+  // Each row takes no perturbed entry (-1) or one of the three coordinate columns; columns distinct.
+  for (int code = 0; code < 256; ++code) {
+    std::array<int, 4> take{};
+    int c = code;
+    bool ok = true;
+    int used = 0;
+    for (int r = 0; r < 4; ++r) {
+      take[r] = (c & 3) - 1;  // -1, 0, 1, 2
+      c >>= 2;
+      if (take[r] >= 0) {
+        if (used & (1 << take[r])) ok = false;
+        used |= 1 << take[r];
+      }
+    }
+    if (!ok) continue;
+    Term term;
+    term.fixed_row_col = take;
+    for (int r = 0; r < 4; ++r)
+      if (take[r] >= 0) term.exponent += 1u << (3 * r + 2 - take[r]);
+    for (const auto& perm : perms) {
+      bool consistent = true;
+      for (int r = 0; r < 4; ++r)
+        if (take[r] >= 0 && perm[r] != take[r]) consistent = false;
+      if (consistent) term.permutations.push_back({perm, permutation_sign(perm)});
+    }
+    terms.push_back(std::move(term));
+  }
+  std::sort(terms.begin(), terms.end(),
+            [](const Term& a, const Term& b) { return a.exponent < b.exponent; });
+  return terms;
+}
+
+const std::vector<Term>& terms() {
+  static const std::vector<Term> kTerms = make_terms();
+  return kTerms;
+}
+
+// Sign of the perturbed determinant of rows (x, y, z, 1) in the given (sorted-by-id) order.
+int perturbed_det4_sign(const std::array<const Vec3*, 4>& rows) {
+  auto entry = [&](int r, int c) { return c == 3 ? Exact(1) : Exact((*rows[r])[c]); };
+  for (const Term& term : terms()) {
+    Exact sum(0);
+    for (const auto& [perm, sign] : term.permutations) {
+      Exact product(sign);
+      for (int r = 0; r < 4; ++r)
+        if (term.fixed_row_col[r] < 0) product *= entry(r, perm[r]);
+      sum += product;
+    }
+    if (sum > 0) return 1;
+    if (sum < 0) return -1;
+  }
+  return 1;  // unreachable: the last terms leave the column of ones, a nonzero minor
+}
+
+}  // namespace
+
+int orient_symbolic(const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& pd,
+                    std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+  std::array<std::pair<std::uint32_t, const Vec3*>, 4> items{
+      {{a, &pa}, {b, &pb}, {c, &pc}, {d, &pd}}};
+  // Sort by id, counting transpositions (insertion sort on four items).
+  int parity = 1;
+  for (int i = 1; i < 4; ++i)
+    for (int j = i; j > 0 && items[j].first < items[j - 1].first; --j) {
+      std::swap(items[j], items[j - 1]);
+      parity = -parity;
+    }
+  const std::array<const Vec3*, 4> rows{items[0].second, items[1].second, items[2].second,
+                                        items[3].second};
+  // CGAL's orientation(a, b, c, d) is the sign of det[b-a, c-a, d-a] = -det4(a, b, c, d).
+  return -parity * perturbed_det4_sign(rows);
+}
+
+int orient_sos(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t b,
+               std::uint32_t c, std::uint32_t d) {
+  const Vec3& pa = points[a];
+  const Vec3& pb = points[b];
+  const Vec3& pc = points[c];
+  const Vec3& pd = points[d];
+  const CGAL::Orientation o =
+      CGAL::orientation(Kernel::Point_3(pa[0], pa[1], pa[2]), Kernel::Point_3(pb[0], pb[1], pb[2]),
+                        Kernel::Point_3(pc[0], pc[1], pc[2]), Kernel::Point_3(pd[0], pd[1], pd[2]));
+  if (o == CGAL::POSITIVE) return 1;
+  if (o == CGAL::NEGATIVE) return -1;
+  return orient_symbolic(pa, pb, pc, pd, a, b, c, d);
+}
+
+}  // namespace untangle

@@ -1,0 +1,165 @@
+// JSON reports (nlohmann::ordered_json keeps key order stable) and contour OBJ text.
+#include "untangle/report.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "untangle/error.h"
+
+namespace untangle {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+Json mesh_entry(const Mesh& mesh, const MeshInfo& info) {
+  Json j;
+  j["path"] = mesh.path;
+  j["name"] = mesh.name;
+  j["role"] = to_string(mesh.role);
+  j["vertices"] = info.vertices;
+  j["faces"] = info.faces;
+  j["boundary_loops"] = info.boundary_loops;
+  return j;
+}
+
+Json counts_json(const IntersectionCounts& c) {
+  Json j;
+  j["crossings"] = c.crossings;
+  j["triangle_pairs"] = c.triangle_pairs;
+  j["contours"] = c.contours;
+  j["contour_length"] = c.contour_length;
+  Json tracks;
+  tracks["CL"] = c.tracks[0];
+  tracks["BB"] = c.tracks[1];
+  tracks["BI"] = c.tracks[2];
+  tracks["II"] = c.tracks[3];
+  j["tracks"] = tracks;
+  Json pairs;
+  pairs["CL/CL"] = c.pairs_cl_cl;
+  pairs["BB/II"] = c.pairs_bb_ii;
+  pairs["BI/BI"] = c.pairs_bi_bi;
+  pairs["self"] = c.pairs_self;
+  pairs["other"] = c.pairs_other;
+  j["pairs"] = pairs;
+  j["loop_vertices"] = c.loop_vertices;
+  j["non_separating"] = c.non_separating;
+  j["branch_points"] = c.branch_points;
+  return j;
+}
+
+Json contour_json(const Contour& c) {
+  Json j;
+  j["meshes"] = {c.tracks[0].mesh, c.tracks[1].mesh};
+  j["types"] = {to_string(c.tracks[0].type), to_string(c.tracks[1].type)};
+  j["closed"] = c.closed;
+  j["self"] = c.self;
+  j["crossings"] = c.crossings.size();
+  j["length"] = c.length;
+  j["loop_vertices"] = c.loop_vertices;
+  j["separates"] = {c.tracks[0].separates, c.tracks[1].separates};
+  j["smaller_area"] = {c.tracks[0].smaller_area, c.tracks[1].smaller_area};
+  j["cut_edges"] = {c.tracks[0].cut_edges, c.tracks[1].cut_edges};
+  return j;
+}
+
+}  // namespace
+
+std::string info_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos) {
+  Json j;
+  j["schema_version"] = kReportSchemaVersion;
+  j["command"] = "info";
+  Json list = Json::array();
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    const MeshInfo& info = infos[i];
+    Json m = mesh_entry(meshes[i], info);
+    m["triangles"] = info.triangles;
+    m["welded_vertices"] = info.welded_vertices;
+    m["components"] = info.components;
+    m["boundary_edges"] = info.boundary_edges;
+    m["non_manifold_edges"] = info.non_manifold_edges;
+    m["degenerate_triangles"] = info.degenerate_triangles;
+    m["zero_area_triangles"] = info.zero_area_triangles;
+    m["closed"] = info.closed;
+    m["area"] = info.area;
+    m["mean_edge_length"] = info.mean_edge_length;
+    list.push_back(m);
+  }
+  j["meshes"] = list;
+  return j.dump(2) + "\n";
+}
+
+std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
+                              const Intersections& found, const CheckTimingsMs& timings) {
+  Json j;
+  j["schema_version"] = kReportSchemaVersion;
+  j["command"] = "check";
+  j["status"] = found.counts.crossings == 0 ? "clean" : "intersecting";
+  Json list = Json::array();
+  for (std::size_t i = 0; i < meshes.size(); ++i) list.push_back(mesh_entry(meshes[i], infos[i]));
+  j["meshes"] = list;
+  j["before"] = counts_json(found.counts);
+  Json contours = Json::array();
+  for (const Contour& c : found.contours) contours.push_back(contour_json(c));
+  j["contours"] = contours;
+  Json t;
+  t["load"] = timings.load;
+  t["detect"] = timings.detect;
+  t["contours"] = timings.contours;
+  t["total"] = timings.total;
+  j["timing_ms"] = t;
+  return j.dump(2) + "\n";
+}
+
+std::string contours_obj(const Intersections& found) {
+  std::ostringstream out;
+  out.precision(17);
+  out << "# untangle contours: " << found.contours.size() << "\n";
+  std::size_t base = 1;
+  for (std::size_t k = 0; k < found.contours.size(); ++k) {
+    const Contour& c = found.contours[k];
+    out << "o contour_" << k << "_" << to_string(c.tracks[0].type) << "_"
+        << to_string(c.tracks[1].type) << (c.self ? "_self" : "") << "\n";
+    for (const Vec3& p : c.polyline) out << "v " << p[0] << " " << p[1] << " " << p[2] << "\n";
+    if (c.polyline.size() >= 2) {
+      out << "l";
+      for (std::size_t i = 0; i < c.polyline.size(); ++i) out << " " << base + i;
+      if (c.closed && c.polyline.size() > 2) out << " " << base;
+      out << "\n";
+    }
+    base += c.polyline.size();
+  }
+  return out.str();
+}
+
+void write_text_file_atomically(const std::string& path, const std::string& text) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) {
+    throw Error(ExitCode::kOutputNotWritten, path, "folder " + folder.string() + " does not exist");
+  }
+  const fs::path temp = folder / ("." + target.filename().string() + ".untangle-tmp");
+  {
+    std::ofstream file(temp, std::ios::binary | std::ios::trunc);
+    if (!file) throw Error(ExitCode::kOutputNotWritten, path, "cannot create file");
+    file << text;
+    file.flush();
+    if (!file) {
+      file.close();
+      fs::remove(temp, ec);
+      throw Error(ExitCode::kOutputNotWritten, path, "write failed");
+    }
+  }
+  fs::rename(temp, target, ec);
+  if (ec) {
+    fs::remove(temp, ec);
+    throw Error(ExitCode::kOutputNotWritten, path, "cannot rename temporary file into place");
+  }
+}
+
+}  // namespace untangle

@@ -1,0 +1,133 @@
+// Building the welded, globally indexed topology of a set of meshes.
+#include "topology/scene_topology.h"
+
+#include <algorithm>
+#include <numeric>
+
+namespace untangle {
+
+std::uint32_t SceneTopology::find_edge(std::uint32_t a, std::uint32_t b) const {
+  if (a > b) std::swap(a, b);
+  const std::array<std::uint32_t, 2> key{a, b};
+  auto it = std::lower_bound(edges.begin(), edges.end(), key);
+  if (it == edges.end() || *it != key) return kNone;
+  return static_cast<std::uint32_t>(it - edges.begin());
+}
+
+SceneTopology build_topology(const std::vector<Mesh>& meshes) {
+  SceneTopology topo;
+  const std::size_t mesh_count = meshes.size();
+  topo.welded.resize(mesh_count);
+  topo.degenerate.assign(mesh_count, 0);
+
+  // Weld per mesh: sort input vertices by position (ties by index); each group of equal positions
+  // becomes one welded vertex, numbered in order of its smallest input index.
+  for (std::size_t m = 0; m < mesh_count; ++m) {
+    const std::vector<Vec3>& pos = meshes[m].positions;
+    std::vector<std::uint32_t> order(pos.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+      if (pos[a] != pos[b]) return pos[a] < pos[b];
+      return a < b;
+    });
+    std::vector<std::uint32_t> leader(pos.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      const bool same = i > 0 && pos[order[i]] == pos[order[i - 1]];
+      leader[order[i]] = same ? leader[order[i - 1]] : order[i];
+    }
+    topo.mesh_vertex_begin.push_back(static_cast<std::uint32_t>(topo.points.size()));
+    std::vector<std::uint32_t>& map = topo.welded[m];
+    map.assign(pos.size(), kNone);
+    for (std::uint32_t v = 0; v < pos.size(); ++v) {
+      if (leader[v] == v) {
+        map[v] = static_cast<std::uint32_t>(topo.points.size());
+        topo.points.push_back(pos[v]);
+        topo.vertex_mesh.push_back(static_cast<std::uint32_t>(m));
+        topo.representative.push_back(v);
+      } else {
+        map[v] = map[leader[v]];
+      }
+    }
+  }
+  topo.mesh_vertex_begin.push_back(static_cast<std::uint32_t>(topo.points.size()));
+
+  // Keep triangles with three distinct welded corners.
+  for (std::size_t m = 0; m < mesh_count; ++m) {
+    topo.mesh_tri_begin.push_back(static_cast<std::uint32_t>(topo.tris.size()));
+    const std::vector<Triangle>& tris = meshes[m].triangles;
+    for (std::uint32_t t = 0; t < tris.size(); ++t) {
+      const std::array<std::uint32_t, 3> w{topo.welded[m][tris[t][0]], topo.welded[m][tris[t][1]],
+                                           topo.welded[m][tris[t][2]]};
+      if (w[0] == w[1] || w[1] == w[2] || w[2] == w[0]) {
+        ++topo.degenerate[m];
+        continue;
+      }
+      topo.tris.push_back(w);
+      topo.tri_mesh.push_back(static_cast<std::uint32_t>(m));
+      topo.tri_source.push_back(t);
+    }
+  }
+  topo.mesh_tri_begin.push_back(static_cast<std::uint32_t>(topo.tris.size()));
+
+  // Edges: sort (v0, v1, triangle) records; faces of one edge come out ascending.
+  struct Record {
+    std::uint32_t a, b, t;
+    bool operator<(const Record& o) const {
+      return a != o.a ? a < o.a : b != o.b ? b < o.b : t < o.t;
+    }
+  };
+  std::vector<Record> records;
+  records.reserve(topo.tris.size() * 3);
+  for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t a = topo.tris[t][k], b = topo.tris[t][(k + 1) % 3];
+      if (a > b) std::swap(a, b);
+      records.push_back({a, b, t});
+    }
+  }
+  std::sort(records.begin(), records.end());
+  topo.tri_edges.assign(topo.tris.size(), {kNone, kNone, kNone});
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    if (i == 0 || records[i].a != records[i - 1].a || records[i].b != records[i - 1].b) {
+      topo.edges.push_back({records[i].a, records[i].b});
+      topo.edge_face_begin.push_back(static_cast<std::uint32_t>(topo.edge_faces.size()));
+    }
+    const std::uint32_t e = static_cast<std::uint32_t>(topo.edges.size() - 1);
+    if (topo.edge_faces.size() == topo.edge_face_begin.back() ||
+        topo.edge_faces.back() != records[i].t) {
+      topo.edge_faces.push_back(records[i].t);
+    }
+    const auto& tri = topo.tris[records[i].t];
+    for (int k = 0; k < 3; ++k) {
+      std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
+      if (a > b) std::swap(a, b);
+      if (a == records[i].a && b == records[i].b) topo.tri_edges[records[i].t][k] = e;
+    }
+  }
+  topo.edge_face_begin.push_back(static_cast<std::uint32_t>(topo.edge_faces.size()));
+
+  // Vertex -> edges.
+  topo.vertex_edge_begin.assign(topo.points.size() + 1, 0);
+  for (const auto& e : topo.edges) {
+    ++topo.vertex_edge_begin[e[0] + 1];
+    ++topo.vertex_edge_begin[e[1] + 1];
+  }
+  for (std::size_t v = 0; v < topo.points.size(); ++v) {
+    topo.vertex_edge_begin[v + 1] += topo.vertex_edge_begin[v];
+  }
+  topo.vertex_edges.resize(topo.vertex_edge_begin.back());
+  std::vector<std::uint32_t> fill(topo.vertex_edge_begin.begin(), topo.vertex_edge_begin.end() - 1);
+  for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
+    topo.vertex_edges[fill[topo.edges[e][0]]++] = e;
+    topo.vertex_edges[fill[topo.edges[e][1]]++] = e;
+  }
+  return topo;
+}
+
+void update_points(const std::vector<Mesh>& meshes, SceneTopology& topology) {
+  for (std::size_t v = 0; v < topology.points.size(); ++v) {
+    topology.points[v] = meshes[topology.vertex_mesh[v]].positions[topology.representative[v]];
+  }
+}
+
+}  // namespace untangle
