@@ -2,7 +2,8 @@
 #include "detect/orientation.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Exact_rational.h>
+#include <CGAL/Interval_nt.h>
+#include <CGAL/Mpzf.h>
 
 #include <algorithm>
 #include <array>
@@ -12,7 +13,8 @@ namespace untangle {
 namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Exact = CGAL::Exact_rational;
+using Exact = CGAL::Mpzf;  // exact sums and products of doubles
+using Interval = CGAL::Interval_nt<>;
 
 // One term of the perturbed 4x4 determinant |x y z 1| (rows = points sorted by id): the set S of
 // perturbed entries (row, column) it multiplies, and the permutations consistent with S with their
@@ -76,19 +78,31 @@ const std::vector<Term>& terms() {
   return kTerms;
 }
 
-// Sign of the perturbed determinant of rows (x, y, z, 1) in the given (sorted-by-id) order.
+// The coefficient of one term, evaluated in number type NT.
+template <class NT>
+NT coefficient(const Term& term, const std::array<const Vec3*, 4>& rows) {
+  NT sum(0);
+  for (const auto& [perm, sign] : term.permutations) {
+    NT product(sign);
+    for (int r = 0; r < 4; ++r)
+      if (term.fixed_row_col[r] < 0 && perm[r] != 3) product *= NT((*rows[r])[perm[r]]);
+    sum += product;
+  }
+  return sum;
+}
+
+// Sign of the perturbed determinant of rows (x, y, z, 1) in the given (sorted-by-id) order. Each
+// coefficient is first bounded with interval arithmetic (exact on small integers, where most
+// degenerate input lives); only an interval straddling zero is recomputed exactly.
 int perturbed_det4_sign(const std::array<const Vec3*, 4>& rows) {
-  auto entry = [&](int r, int c) { return c == 3 ? Exact(1) : Exact((*rows[r])[c]); };
   for (const Term& term : terms()) {
-    Exact sum(0);
-    for (const auto& [perm, sign] : term.permutations) {
-      Exact product(sign);
-      for (int r = 0; r < 4; ++r)
-        if (term.fixed_row_col[r] < 0) product *= entry(r, perm[r]);
-      sum += product;
-    }
-    if (sum > 0) return 1;
-    if (sum < 0) return -1;
+    const Interval bound = coefficient<Interval>(term, rows);
+    if (bound.inf() > 0) return 1;
+    if (bound.sup() < 0) return -1;
+    if (bound.inf() == 0 && bound.sup() == 0) continue;
+    const Exact exact = coefficient<Exact>(term, rows);
+    const CGAL::Sign sign = CGAL::sign(exact);
+    if (sign != CGAL::ZERO) return sign == CGAL::POSITIVE ? 1 : -1;
   }
   return 1;  // unreachable: the last terms leave the column of ones, a nonzero minor
 }

@@ -5,12 +5,14 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <system_error>
 
+#include "io/read_obj.h"
 #include "untangle/error.h"
 
 namespace untangle {
@@ -87,12 +89,19 @@ std::vector<Mesh> read_meshes(const std::string& path, Role role) {
     }
   }
 
+  std::string extension = std::filesystem::path(path).extension().string();
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (extension == ".obj") return {read_obj(path, role)};
+
   Assimp::Importer importer;
   // No joining, no pre-transforming, no triangulation by assimp: vertex order stays as in the
   // file and polygons are fanned here, so every triangle knows its source face.
   const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
   if (scene == nullptr) {
     std::string why = one_line(importer.GetErrorString());
+    if (why.find("contains no faces") != std::string::npos) {
+      fail(path, "no triangles (0 faces); untangle needs surface meshes");
+    }
     if (why.empty()) why = "unknown error";
     fail(path, "cannot read mesh: " + why);
   }
@@ -104,7 +113,7 @@ std::vector<Mesh> read_meshes(const std::string& path, Role role) {
     std::size_t faces = 0;
     for (unsigned m = 0; m < scene->mNumMeshes; ++m) faces += scene->mMeshes[m]->mNumFaces;
     fail(path, "no triangles (" + std::to_string(faces) +
-                   " faces with three or more corners: 0); untangle needs surface meshes");
+                   " faces, all points or lines); untangle needs surface meshes");
   }
   return meshes;
 }

@@ -1,0 +1,204 @@
+// Property tests of detection on thousands of random, grid-snapped (so degenerate) scenes:
+// every triangle pair sharing no vertex has 0 or 2 crossings, every contour closes or ends on
+// boundary edges or loop vertices, and the broad phase misses nothing a brute force finds.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "contour/build_contours.h"
+#include "detect/detect_crossings.h"
+#include "topology/scene_topology.h"
+#include "untangle/intersections.h"
+
+namespace untangle {
+namespace {
+
+// A height-field sheet of n x n vertices with integer x, y and z drawn from {0, 1, 2}.
+Mesh grid_sheet(std::mt19937& rng, int n, int shift_x, int shift_y, bool swap_axes) {
+  std::uniform_int_distribution<int> h(0, 2);
+  Mesh m;
+  m.name = "sheet";
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      Vec3 p{double(i + shift_x), double(j + shift_y), double(h(rng))};
+      if (swap_axes) std::swap(p[1], p[2]);
+      m.positions.push_back(p);
+    }
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      const std::uint32_t a = j * n + i, b = a + 1, c = a + n, d = c + 1;
+      m.triangles.push_back({a, b, d});
+      m.triangles.push_back({a, d, c});
+    }
+  return m;
+}
+
+// A closed octahedron with grid-snapped corners.
+Mesh octahedron(std::mt19937& rng) {
+  std::uniform_int_distribution<int> g(0, 3);
+  std::uniform_int_distribution<int> r(1, 2);
+  const Vec3 c{double(g(rng)), double(g(rng)), double(g(rng) % 3)};
+  const double s = r(rng);
+  Mesh m;
+  m.name = "octahedron";
+  m.positions = {{c[0] + s, c[1], c[2]}, {c[0] - s, c[1], c[2]}, {c[0], c[1] + s, c[2]},
+                 {c[0], c[1] - s, c[2]}, {c[0], c[1], c[2] + s}, {c[0], c[1], c[2] - s}};
+  m.triangles = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                 {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  return m;
+}
+
+// Loose triangles with corners on a 3x3x3 grid (welding may join them into odd topology).
+Mesh soup(std::mt19937& rng, int count) {
+  std::uniform_int_distribution<int> g(0, 2);
+  Mesh m;
+  m.name = "soup";
+  for (int t = 0; t < count; ++t) {
+    for (int k = 0; k < 3; ++k) m.positions.push_back({double(g(rng)), double(g(rng)), double(g(rng))});
+    const std::uint32_t b = static_cast<std::uint32_t>(3 * t);
+    m.triangles.push_back({b, b + 1, b + 2});
+  }
+  return m;
+}
+
+std::vector<Mesh> random_scene(std::mt19937& rng, int kind) {
+  std::vector<Mesh> meshes;
+  switch (kind % 5) {
+    case 0:  // two sheets through each other
+      meshes.push_back(grid_sheet(rng, 4, 0, 0, false));
+      meshes.push_back(grid_sheet(rng, 4, 0, 0, true));
+      break;
+    case 1:  // a sheet and a closed octahedron
+      meshes.push_back(grid_sheet(rng, 5, 0, 0, false));
+      meshes.push_back(octahedron(rng));
+      break;
+    case 2:  // a mesh and its exact duplicate
+      meshes.push_back(grid_sheet(rng, 4, 0, 0, false));
+      meshes.push_back(meshes.back());
+      break;
+    case 3:  // triangle soup, one mesh (self-intersections, shared vertices, non-manifold edges)
+      meshes.push_back(soup(rng, 6));
+      break;
+    default:  // two octahedra and a sheet
+      meshes.push_back(octahedron(rng));
+      meshes.push_back(octahedron(rng));
+      meshes.push_back(grid_sheet(rng, 3, 1, 1, false));
+      break;
+  }
+  for (auto& m : meshes) {
+    m.polygon.resize(m.triangles.size());
+    for (std::uint32_t t = 0; t < m.polygon.size(); ++t) m.polygon[t] = t;
+    m.source_faces = m.triangles.size();
+  }
+  return meshes;
+}
+
+bool has(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
+  return tri[0] == v || tri[1] == v || tri[2] == v;
+}
+
+TEST(DetectProperty, ZeroOrTwoCrossingsAndContoursCloseOnGridScenes) {
+  std::mt19937 rng(20261121);
+  std::size_t total_crossings = 0, total_contours = 0;
+  for (int round = 0; round < 3000; ++round) {
+    const std::vector<Mesh> meshes = random_scene(rng, round);
+    const SceneTopology topo = build_topology(meshes);
+
+    // Brute force: every edge against every triangle sharing no vertex with it.
+    std::set<std::pair<std::uint32_t, std::uint32_t>> brute;
+    for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
+      for (std::uint32_t f = 0; f < topo.tris.size(); ++f) {
+        const auto& tri = topo.tris[f];
+        if (has(tri, topo.edges[e][0]) || has(tri, topo.edges[e][1])) continue;
+        if (edge_crosses_triangle(topo.points, topo.edges[e][0], topo.edges[e][1], tri[0], tri[1],
+                                  tri[2]))
+          brute.insert({e, f});
+      }
+    }
+    // Per triangle pair: 0 or 2 crossings when no vertex is shared, 0 or 1 when one is.
+    for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
+      for (std::uint32_t f = t + 1; f < topo.tris.size(); ++f) {
+        int shared = 0;
+        for (std::uint32_t v : topo.tris[t]) shared += has(topo.tris[f], v) ? 1 : 0;
+        if (shared >= 2) continue;
+        int count = 0;
+        for (std::uint32_t e : topo.tri_edges[t]) count += brute.count({e, f}) ? 1 : 0;
+        for (std::uint32_t e : topo.tri_edges[f]) count += brute.count({e, t}) ? 1 : 0;
+        if (shared == 0) {
+          ASSERT_TRUE(count == 0 || count == 2) << "round " << round << " pair " << t << "," << f
+                                                << " has " << count << " crossings";
+        } else {
+          ASSERT_LE(count, 1) << "round " << round << " pair " << t << "," << f;
+        }
+      }
+    }
+
+    DetectSettings settings;
+    settings.threads = 1;
+    const CrossingSet set = detect_crossings(topo, settings);
+    std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+    for (const RawCrossing& c : set.items) found.insert({c.edge, c.face});
+    ASSERT_EQ(found, brute) << "round " << round;
+    total_crossings += set.items.size();
+
+    const std::vector<TracedContour> contours = build_contours(topo, set);
+    for (const TracedContour& traced : contours) {
+      const Contour& c = traced.contour;
+      ASSERT_FALSE(traced.broken) << "round " << round;
+      if (c.branch_points > 0) continue;  // non-manifold soup: branches are reported, not chains
+      if (!c.closed) {
+        EXPECT_EQ(c.tracks[0].boundary_ends + c.tracks[1].boundary_ends + c.loop_vertices, 2u)
+            << "round " << round << ": an open contour must have two ends";
+      }
+    }
+    total_contours += contours.size();
+  }
+  EXPECT_GT(total_crossings, 1000u);
+  EXPECT_GT(total_contours, 500u);
+}
+
+// A closed mesh and its exact copy: every coincident pair is decided the same consistent way.
+TEST(DetectProperty, DuplicatedClosedMeshGivesClosedContours) {
+  std::mt19937 rng(3);
+  std::vector<Mesh> meshes{octahedron(rng)};
+  meshes.push_back(meshes.front());
+  for (auto& m : meshes) {
+    m.polygon = {0, 1, 2, 3, 4, 5, 6, 7};
+    m.source_faces = 8;
+  }
+  const Intersections found = find_intersections(meshes);
+  EXPECT_EQ(found.counts.broken, 0u);
+  for (const Contour& c : found.contours) EXPECT_TRUE(c.closed);
+  EXPECT_EQ(found.counts.crossings % 2, 0u);
+}
+
+// The same scene gives the same result at every thread count.
+TEST(DetectProperty, SameResultForEveryThreadCount) {
+  std::mt19937 rng(5);
+  std::vector<Mesh> meshes;
+  for (int i = 0; i < 4; ++i) meshes.push_back(grid_sheet(rng, 30, 0, 0, i % 2 == 1));
+  for (auto& m : meshes) {
+    m.polygon.resize(m.triangles.size());
+    m.source_faces = m.triangles.size();
+  }
+  DetectOptions one, two, all;
+  one.threads = 1;
+  two.threads = 2;
+  all.threads = 0;
+  const Intersections a = find_intersections(meshes, one);
+  const Intersections b = find_intersections(meshes, two);
+  const Intersections c = find_intersections(meshes, all);
+  ASSERT_GT(a.counts.crossings, 0u);
+  EXPECT_EQ(a.triangle_pairs, b.triangle_pairs);
+  EXPECT_EQ(a.triangle_pairs, c.triangle_pairs);
+  ASSERT_EQ(a.contours.size(), b.contours.size());
+  for (std::size_t k = 0; k < a.contours.size(); ++k) {
+    EXPECT_EQ(a.contours[k].crossings, b.contours[k].crossings);
+    EXPECT_EQ(a.contours[k].polyline, c.contours[k].polyline);
+  }
+}
+
+}  // namespace
+}  // namespace untangle

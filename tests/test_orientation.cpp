@@ -1,0 +1,66 @@
+// The symbolic perturbation: agrees with CGAL off degeneracies, is antisymmetric, never zero.
+#include <gtest/gtest.h>
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <array>
+#include <random>
+
+#include "detect/orientation.h"
+
+namespace untangle {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+
+int cgal_orientation(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+  return static_cast<int>(CGAL::orientation(K::Point_3(a[0], a[1], a[2]), K::Point_3(b[0], b[1], b[2]),
+                                            K::Point_3(c[0], c[1], c[2]), K::Point_3(d[0], d[1], d[2])));
+}
+
+TEST(Orientation, AgreesWithCgalWhenNotDegenerate) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 2000; ++i) {
+    std::vector<Vec3> p(4);
+    for (auto& v : p) v = {u(rng), u(rng), u(rng)};
+    const int expected = cgal_orientation(p[0], p[1], p[2], p[3]);
+    ASSERT_NE(expected, 0);
+    EXPECT_EQ(orient_sos(p, 0, 1, 2, 3), expected);
+    EXPECT_EQ(orient_symbolic(p[0], p[1], p[2], p[3], 0, 1, 2, 3), expected);
+  }
+}
+
+// Degenerate configurations on a 3x3x3 grid: the perturbed sign is never zero, flips under every
+// transposition of arguments, and depends only on the ids, not on the argument order.
+TEST(Orientation, PerturbedSignIsConsistentOnGridPoints) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> g(0, 2);
+  int degenerate = 0;
+  for (int i = 0; i < 3000; ++i) {
+    std::vector<Vec3> p(6);
+    for (auto& v : p) v = {double(g(rng)), double(g(rng)), double(g(rng))};
+    std::array<std::uint32_t, 4> ids{0, 1, 2, 3};
+    std::shuffle(ids.begin(), ids.end(), rng);
+    if (cgal_orientation(p[0], p[1], p[2], p[3]) == 0) ++degenerate;
+    const int s = orient_sos(p, ids[0], ids[1], ids[2], ids[3]);
+    ASSERT_TRUE(s == 1 || s == -1);
+    EXPECT_EQ(orient_sos(p, ids[1], ids[0], ids[2], ids[3]), -s);
+    EXPECT_EQ(orient_sos(p, ids[0], ids[2], ids[1], ids[3]), -s);
+    EXPECT_EQ(orient_sos(p, ids[0], ids[1], ids[3], ids[2]), -s);
+    EXPECT_EQ(orient_sos(p, ids[1], ids[2], ids[3], ids[0]), -s);  // a 4-cycle is odd
+    EXPECT_EQ(orient_sos(p, ids[1], ids[2], ids[0], ids[3]), s);   // a 3-cycle is even
+  }
+  EXPECT_GT(degenerate, 300);  // the grid really produces degenerate cases
+}
+
+// Coincident points: a point and its exact copy are told apart by their ids.
+TEST(Orientation, CoincidentPointsAreSeparated) {
+  const std::vector<Vec3> p{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0}};
+  const int s = orient_sos(p, 0, 1, 2, 3);
+  EXPECT_TRUE(s == 1 || s == -1);
+  EXPECT_EQ(orient_sos(p, 3, 1, 2, 0), -s);
+}
+
+}  // namespace
+}  // namespace untangle
