@@ -14,7 +14,7 @@ namespace {
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Exact = CGAL::Mpzf;  // exact sums and products of doubles
-using Interval = CGAL::Interval_nt<>;
+using Interval = CGAL::Interval_nt_advanced;  // rounding mode set once per call
 
 // One term of the perturbed 4x4 determinant |x y z 1| (rows = points sorted by id): the set S of
 // perturbed entries (row, column) it multiplies, and the permutations consistent with S with their
@@ -94,23 +94,30 @@ NT coefficient(const Term& term, const std::array<const Vec3*, 4>& rows) {
 // Sign of the perturbed determinant of rows (x, y, z, 1) in the given (sorted-by-id) order. Each
 // coefficient is first bounded with interval arithmetic (exact on small integers, where most
 // degenerate input lives); only an interval straddling zero is recomputed exactly.
-int perturbed_det4_sign(const std::array<const Vec3*, 4>& rows) {
-  for (const Term& term : terms()) {
+int perturbed_det4_sign(const std::array<const Vec3*, 4>& rows, bool skip_unperturbed) {
+  const std::vector<Term>& all = terms();
+  const CGAL::Protect_FPU_rounding<true> rounding;  // upward rounding for Interval_nt_advanced
+  for (std::size_t k = skip_unperturbed ? 1 : 0; k < all.size(); ++k) {
+    const Term& term = all[k];
     const Interval bound = coefficient<Interval>(term, rows);
     if (bound.inf() > 0) return 1;
     if (bound.sup() < 0) return -1;
     if (bound.inf() == 0 && bound.sup() == 0) continue;
-    const Exact exact = coefficient<Exact>(term, rows);
+    const Exact exact = [&] {
+      const CGAL::Protect_FPU_rounding<true> nearest(CGAL_FE_TONEAREST);  // Mpzf needs it
+      return coefficient<Exact>(term, rows);
+    }();
     const CGAL::Sign sign = CGAL::sign(exact);
     if (sign != CGAL::ZERO) return sign == CGAL::POSITIVE ? 1 : -1;
   }
   return 1;  // unreachable: the last terms leave the column of ones, a nonzero minor
 }
 
-}  // namespace
-
-int orient_symbolic(const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& pd,
-                    std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+// Sorts the four points by id and evaluates the perturbed determinant; `known_zero` skips the
+// unperturbed term when the caller has already found it to be zero.
+int orient_perturbed(const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& pd,
+                     std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d,
+                     bool known_zero) {
   std::array<std::pair<std::uint32_t, const Vec3*>, 4> items{
       {{a, &pa}, {b, &pb}, {c, &pc}, {d, &pd}}};
   // Sort by id, counting transpositions (insertion sort on four items).
@@ -123,7 +130,14 @@ int orient_symbolic(const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& 
   const std::array<const Vec3*, 4> rows{items[0].second, items[1].second, items[2].second,
                                         items[3].second};
   // CGAL's orientation(a, b, c, d) is the sign of det[b-a, c-a, d-a] = -det4(a, b, c, d).
-  return -parity * perturbed_det4_sign(rows);
+  return -parity * perturbed_det4_sign(rows, known_zero);
+}
+
+}  // namespace
+
+int orient_symbolic(const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& pd,
+                    std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d) {
+  return orient_perturbed(pa, pb, pc, pd, a, b, c, d, false);
 }
 
 int orient_sos(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t b,
@@ -137,7 +151,7 @@ int orient_sos(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t b
                         Kernel::Point_3(pc[0], pc[1], pc[2]), Kernel::Point_3(pd[0], pd[1], pd[2]));
   if (o == CGAL::POSITIVE) return 1;
   if (o == CGAL::NEGATIVE) return -1;
-  return orient_symbolic(pa, pb, pc, pd, a, b, c, d);
+  return orient_perturbed(pa, pb, pc, pd, a, b, c, d, true);
 }
 
 }  // namespace untangle

@@ -1,0 +1,80 @@
+// Generated test scenes: primitive meshes and the named scenes of the test suite and benchmarks.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "untangle/mesh.h"
+
+namespace untangle::scenes {
+
+// ---- primitives (all return Mesh with role kMovable, path "" and the given name) ----
+// Every primitive is welded by construction (no two vertices share a position), consistently
+// oriented (closed ones outward) and has one source face per triangle (polygon[t] = t).
+
+// A flat sheet of nu x nv vertices (so (nu-1)*(nv-1)*2 triangles): origin + i/(nu-1)*u +
+// j/(nv-1)*v.
+Mesh grid_sheet(int nu, int nv, Vec3 origin, Vec3 u, Vec3 v, const std::string& name);
+// A closed UV sphere (poles are single vertices): slices around, stacks from pole to pole.
+Mesh uv_sphere(Vec3 centre, double radius, int slices, int stacks, const std::string& name);
+// An open cylinder along axis z through `centre`: two boundary loops. `rings` (>= 2) rings of
+// `slices` vertices, the end rings at z = centre +- length / 2; normals point away from the axis.
+Mesh open_tube(Vec3 centre, double radius, double length, int slices, int rings,
+               const std::string& name);
+// A closed capsule (cylinder with hemispherical caps) along z. `length` is the cylinder's (the caps
+// add `radius` at each end), `rings` (>= 2) the cylinder's vertex rings; caps of max(2, slices / 4)
+// stacks end in single pole vertices.
+Mesh capsule(Vec3 centre, double radius, double length, int slices, int rings,
+             const std::string& name);
+// A closed mesh of `count` x `count` cone spikes on a square base plate (one closed mesh). The
+// plate is `size` x `size`, centred on base_centre, its top at base_centre's z, 0.1 * size thick;
+// each spike is a cone of radius 0.45 * size / count and height `height` (tip on a vertex).
+Mesh cone_spikes(Vec3 base_centre, double size, int count, double height, const std::string& name);
+// A garment-like open mesh with four boundary loops (a "t-shirt" tube: neck, two sleeves, waist):
+// a cube's surface of resolution^3 cells (resolution a multiple of 8) projected onto an ellipsoid
+// of half-axes 0.9, 0.5, 1.2 times `size`, with the -z face (waist), the middle of the +z face
+// (neck) and the middles of the +-x faces (sleeves) removed. Genus 0.
+Mesh garment_like(Vec3 centre, double size, int resolution, const std::string& name);
+
+// ---- the cow of Debian's libcgal-demo (empty path when not installed) ----
+// Path of cow.off, or "" when the package is absent (tests skip with a visible reason).
+std::string cow_path();
+
+// ---- named scenes ----
+struct Scene {
+  std::string name;             // folder name under testdata/
+  std::vector<Mesh> movable;    // positional inputs
+  std::vector<Mesh> obstacles;  // --obstacle inputs
+};
+
+// A sheet through a closed sphere (one CL/CL contour).
+Scene sheet_through_sphere();
+// A narrow strip through a sheet (BB/II).
+Scene strip_through_sheet();
+// Two sheets overlapping at a corner (BI/BI).
+Scene sheets_corner();
+// A sheet folded through itself (self-intersection).
+Scene folded_sheet();
+// An open tube with two boundary loops around a closed body that pokes through it; some contours
+// join both loops (non-separating tracks).
+Scene tube_around_body();
+// A garment-like mesh with four loops where a contour joins two loops.
+Scene garment_four_loops();
+// A sheet lying on cone spikes whose tips poke through (spikes as obstacle).
+Scene sheet_on_spikes();
+// An n x n sheet through the cow (requires cow_path() non-empty). The sheet cuts the cow's body
+// across its middle.
+Scene sheet_through_cow(int n);
+
+// The named scenes above except the cow, in the order listed (what testdata/ holds).
+std::vector<Scene> named_scenes();
+
+// The meshes of a scene as find_intersections takes them: movable first, then the obstacles (with
+// role kObstacle), each in order.
+std::vector<Mesh> scene_meshes(const Scene& scene);
+
+// Writes a mesh as OBJ (v and f lines, full double precision via %.17g).
+void write_obj(const Mesh& mesh, const std::string& path);
+
+}  // namespace untangle::scenes
