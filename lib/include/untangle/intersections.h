@@ -78,6 +78,9 @@ struct Intersections {
 
 struct DetectOptions {
   int threads = 0;  // 0 = all cores; the result is identical for every value
+  // Leave out pairs of triangles that both belong to obstacles (obstacles never move, so `fix`
+  // neither needs nor can change what happens among them).
+  bool skip_obstacle_pairs = false;
 };
 
 struct DetectTimings {

@@ -27,6 +27,10 @@ struct Mesh {
   std::vector<Triangle> triangles;  // indices into positions
   std::vector<std::uint32_t> polygon;  // per triangle: the source face index
   std::size_t source_faces = 0;        // faces in the file (before triangulation)
+  // Named groups (OBJ `g` and `o`, or the mesh name for other formats): per triangle, the index
+  // of its group in group_names, or none when group_names is empty.
+  std::vector<std::string> group_names;
+  std::vector<std::uint32_t> triangle_group;
 };
 
 // A label for messages and reports: "path" or "path:name" when the file holds several meshes.

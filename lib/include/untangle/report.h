@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "untangle/fix.h"
 #include "untangle/intersections.h"
 #include "untangle/mesh.h"
 #include "untangle/mesh_info.h"
@@ -26,6 +27,21 @@ std::string info_report_json(const std::vector<Mesh>& meshes, const std::vector<
 // crossings, length, loop_vertices, separates, smaller_area, cut_edges), timing_ms.
 std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
                               const Intersections& found, const CheckTimingsMs& timings);
+
+struct FixTimingsMs {
+  double load = 0.0, detect = 0.0, contours = 0.0, resolve = 0.0, write = 0.0, verify = 0.0,
+         total = 0.0;
+};
+
+// The `fix` report: the check keys (status is clean | unresolved; `before` as detected on the
+// input, `after` and `contours` as detected on the files written), plus method, iterations,
+// stalled, outputs, history (iteration, crossings, contour_length, elapsed_ms), displacement
+// (max, mean, max_over_mean_edge, moved_vertices), regions (by_inside, by_area) and timing_ms
+// (load, detect, contours, resolve, write, verify, total).
+std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
+                            const std::vector<std::string>& outputs, const FixOptions& options,
+                            const FixResult& result, const Intersections& verified,
+                            const FixTimingsMs& timings);
 
 // OBJ text of the contour polylines: one object per contour named
 // `contour_<k>_<type0>_<type1>` (with `_self` for self-intersections), `l` elements through its

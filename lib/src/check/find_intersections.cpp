@@ -27,6 +27,9 @@ Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOp
   const SceneTopology topo = build_topology(meshes);
   DetectSettings settings;
   settings.threads = options.threads;
+  if (options.skip_obstacle_pairs) {
+    for (const Mesh& m : meshes) settings.skip_among.push_back(m.role == Role::kObstacle);
+  }
   const CrossingSet set = detect_crossings(topo, settings);
   const auto t1 = Clock::now();
   const std::vector<TracedContour> traced = build_contours(topo, set);

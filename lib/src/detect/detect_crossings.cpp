@@ -113,16 +113,27 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
     boxes.emplace_back(box, t);
   }
   std::vector<std::array<std::uint32_t, 2>> pairs;
-  const bool filter = !settings.skip_among.empty();
   auto callback = [&](const Box& a, const Box& b) {
     std::uint32_t t = a.info(), u = b.info();
     if (t > u) std::swap(t, u);
-    if (filter && settings.skip_among[topo.tri_mesh[t]] && settings.skip_among[topo.tri_mesh[u]])
-      return;
     if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) return;
     pairs.push_back({t, u});
   };
-  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
+  if (settings.skip_among.empty()) {
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
+  } else {
+    // Boxes of skipped meshes are only tested against the others, never among themselves: the
+    // broad phase does no work for obstacle-obstacle pairs.
+    std::vector<Box> tested, skipped;
+    for (const Box& box : boxes) {
+      (settings.skip_among[topo.tri_mesh[box.info()]] ? skipped : tested).push_back(box);
+    }
+    if (!tested.empty()) {
+      std::vector<Box> copy = tested;
+      CGAL::box_self_intersection_d(tested.begin(), tested.end(), callback);
+      if (!skipped.empty()) CGAL::box_intersection_d(copy.begin(), copy.end(), skipped.begin(), skipped.end(), callback);
+    }
+  }
   std::sort(pairs.begin(), pairs.end());
   return pairs;
 }

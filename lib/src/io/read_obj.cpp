@@ -81,13 +81,22 @@ Mesh read_obj(const std::string& path, Role role) {
                                   static_cast<std::uint32_t>(corners[c - 1]),
                                   static_cast<std::uint32_t>(corners[c])});
         mesh.polygon.push_back(static_cast<std::uint32_t>(faces_total));
+        if (!mesh.group_names.empty()) {
+          mesh.triangle_group.push_back(static_cast<std::uint32_t>(mesh.group_names.size() - 1));
+        }
       }
       ++faces_total;
-    } else if ((keyword == "o" || keyword == "g") && mesh.name.empty()) {
+    } else if (keyword == "o" || keyword == "g") {
       skip_space(line);
-      mesh.name = std::string(line);
-      while (!mesh.name.empty() && (mesh.name.back() == '\r' || mesh.name.back() == ' '))
-        mesh.name.pop_back();
+      std::string name(line);
+      while (!name.empty() && (name.back() == '\r' || name.back() == ' ')) name.pop_back();
+      if (mesh.name.empty()) mesh.name = name;
+      // Triangles before the first group belong to an unnamed one.
+      if (mesh.group_names.empty() && !mesh.triangles.empty()) {
+        mesh.group_names.emplace_back();
+        mesh.triangle_group.assign(mesh.triangles.size(), 0);
+      }
+      mesh.group_names.push_back(name);
     }
   }
   if (in.bad()) throw Error(ExitCode::kUnreadableInput, path, "read error");

@@ -114,6 +114,63 @@ std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector
   return j.dump(2) + "\n";
 }
 
+std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
+                            const std::vector<std::string>& outputs, const FixOptions& options,
+                            const FixResult& result, const Intersections& verified,
+                            const FixTimingsMs& timings) {
+  Json j;
+  j["schema_version"] = kReportSchemaVersion;
+  j["command"] = "fix";
+  j["status"] = verified.counts.crossings == 0 ? "clean" : "unresolved";
+  Json list = Json::array();
+  for (std::size_t i = 0; i < meshes.size(); ++i) list.push_back(mesh_entry(meshes[i], infos[i]));
+  j["meshes"] = list;
+  j["outputs"] = outputs;
+  Json opts;
+  opts["method"] = to_string(options.method);
+  opts["max_iterations"] = options.max_iterations;
+  opts["clearance"] = options.clearance;
+  opts["outside_closed_obstacles"] = options.outside_closed_obstacles;
+  j["options"] = opts;
+  j["iterations"] = result.iterations;
+  j["stalled"] = result.stalled;
+  j["before"] = counts_json(result.before);
+  j["after"] = counts_json(verified.counts);
+  Json history = Json::array();
+  for (const IterationRecord& r : result.history) {
+    Json h;
+    h["iteration"] = r.iteration;
+    h["crossings"] = r.crossings;
+    h["contour_length"] = r.contour_length;
+    h["elapsed_ms"] = r.elapsed_ms;
+    history.push_back(h);
+  }
+  j["history"] = history;
+  Json d;
+  d["max"] = result.displacement.max;
+  d["mean"] = result.displacement.mean;
+  d["max_over_mean_edge"] = result.displacement.max_over_mean_edge;
+  d["moved_vertices"] = result.displacement.moved_vertices;
+  j["displacement"] = d;
+  Json regions;
+  regions["by_inside"] = result.illegal_regions_by_inside;
+  regions["by_area"] = result.illegal_regions_by_area;
+  j["regions"] = regions;
+  Json contours = Json::array();
+  for (const Contour& c : verified.contours) contours.push_back(contour_json(c));
+  j["contours"] = contours;
+  Json t;
+  t["load"] = timings.load;
+  t["detect"] = timings.detect;
+  t["contours"] = timings.contours;
+  t["resolve"] = timings.resolve;
+  t["write"] = timings.write;
+  t["verify"] = timings.verify;
+  t["total"] = timings.total;
+  j["timing_ms"] = t;
+  return j.dump(2) + "\n";
+}
+
 std::string contours_obj(const Intersections& found) {
   std::ostringstream out;
   out.precision(17);

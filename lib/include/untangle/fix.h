@@ -1,0 +1,90 @@
+// Resolving penetrations: iterative dynamic-repulsive-normal displacements (paper §III, DESIGN §4-5).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "untangle/intersections.h"
+#include "untangle/mesh.h"
+
+namespace untangle {
+
+enum class FixMethod {
+  // Default. Every vertex of an illegal region moves across the other surface (to its closest
+  // point there, plus the clearance); contours that enclose no vertex, BI/BI and non-separating
+  // tracks get the per-crossing rule below.
+  kRegion,
+  // The paper's Eq. 1 on crossing edges only: d = n_r + lambda (r1 + r2), e gets +d, f gets -d,
+  // split by mass; BI/BI and non-separating tracks get d = r1, toward the other mesh's boundary.
+  kPaper,
+};
+const char* to_string(FixMethod method);
+
+struct FixOptions {
+  FixMethod method = FixMethod::kRegion;
+  int max_iterations = 200;
+  // Gap kept between the surfaces after a move, as a fraction of the mean edge length of the
+  // moving mesh (unitless, so mm, cm and m assets behave alike).
+  double clearance = 0.05;
+  // In-plane weight of Eq. 1 (paper: 0.1).
+  double lambda = 0.1;
+  // Per-crossing step, as a fraction of the local edge length.
+  double step = 0.25;
+  // Largest move of one vertex in one iteration, as a multiple of its mean incident edge length.
+  double max_step = 2.0;
+  // A closed obstacle's inside decides which side of a movable mesh is illegal (DESIGN §4); when
+  // false, "the smaller region is illegal" everywhere (the paper's orientation-free rule).
+  bool outside_closed_obstacles = true;
+  // Stop as stalled when neither the crossing count nor the contour length improved for this many
+  // iterations.
+  int stall_iterations = 12;
+  int threads = 0;
+};
+
+// One row of the iteration history (the report's `history`).
+struct IterationRecord {
+  int iteration = 0;
+  std::size_t crossings = 0;
+  double contour_length = 0.0;
+  double elapsed_ms = 0.0;  // since the start of fix_meshes
+};
+
+struct DisplacementStats {
+  double max = 0.0;                 // largest vertex displacement, scene units
+  double mean = 0.0;                // mean over moved vertices
+  double max_over_mean_edge = 0.0;  // max divided by the mean edge length of its mesh
+  std::size_t moved_vertices = 0;   // input vertices whose position changed
+};
+
+struct FixResult {
+  bool clean = false;  // no crossing left on the final positions
+  bool stalled = false;
+  int iterations = 0;
+  IntersectionCounts before;
+  IntersectionCounts after;
+  Intersections remaining;  // what is left (empty when clean)
+  std::vector<IterationRecord> history;
+  DisplacementStats displacement;
+  std::size_t illegal_regions_by_inside = 0;  // regions decided by a closed obstacle's inside
+  std::size_t illegal_regions_by_area = 0;    // regions decided by "small is illegal"
+  double detect_ms = 0.0, contours_ms = 0.0, resolve_ms = 0.0;
+};
+
+// Per mesh, per input vertex: 1 = pinned (never moves). Empty = nothing pinned.
+using PinMask = std::vector<std::vector<std::uint8_t>>;
+
+// Called after each iteration; return false to cancel (the result is then `unresolved`).
+using FixProgress = std::function<bool(const IterationRecord&)>;
+
+// Moves vertices of the movable meshes (positions only, in place) until no crossing is left
+// between or within meshes (obstacle-obstacle crossings are reported, never fixed), the iteration
+// cap, or a stall. Welded vertices move together. `round` (optional) maps positions to what the
+// output format will store (e.g. float32); success is checked on rounded positions. Never prints.
+FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins = {},
+                     const std::function<Vec3(const Vec3&)>& round = {},
+                     const FixProgress& progress = {});
+
+}  // namespace untangle

@@ -1,0 +1,27 @@
+// Writing corrected meshes: only positions change; everything else comes out as it went in.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "untangle/mesh.h"
+
+namespace untangle {
+
+// Writes the meshes read from `input` (in read_meshes order, with new positions) to `output`,
+// through a temporary file and a rename: never a partial file. OBJ to OBJ rewrites only the `v`
+// lines of moved vertices (shortest round-trip decimal) and keeps every other byte; other
+// combinations re-import `input` with assimp, replace positions (mapped back through the node
+// transforms) and export in the format of `output`'s extension. Throws Error(kOutputNotWritten).
+void write_meshes(const std::string& input, const std::string& output,
+                  const std::vector<const Mesh*>& meshes);
+
+// What the format of `output` stores for a position: the identity for OBJ written by us, float32
+// rounding for formats exported by assimp.
+std::function<Vec3(const Vec3&)> output_rounding(const std::string& output);
+
+// Whether `output`'s extension names a format untangle can write.
+bool can_write(const std::string& output);
+
+}  // namespace untangle

@@ -1,0 +1,208 @@
+// Writers: OBJ by rewriting v lines in place; other formats through assimp's exporter.
+#include "untangle/write_meshes.h"
+
+#include <assimp/Exporter.hpp>
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
+
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include "untangle/error.h"
+
+namespace untangle {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string extension_of(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (!ext.empty() && ext[0] == '.') ext.erase(0, 1);
+  return ext;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& message) {
+  throw Error(ExitCode::kOutputNotWritten, path, message);
+}
+
+void append_number(std::string& out, double value) {
+  std::array<char, 32> buffer{};
+  const auto result = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  out.append(buffer.data(), result.ptr);
+}
+
+// Rewrites the v lines whose position changed; every other byte is copied.
+std::string rewrite_obj(const std::string& input, const Mesh& mesh) {
+  std::ifstream in(input, std::ios::binary);
+  if (!in) fail(input, "cannot re-open the input to copy it");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  std::string out;
+  out.reserve(text.size() + text.size() / 8);
+  std::size_t vertex = 0;
+  std::size_t pos = 0;
+  while (pos < text.size()) {
+    std::size_t end = text.find('\n', pos);
+    end = end == std::string::npos ? text.size() : end + 1;
+    std::size_t k = pos;
+    while (k < end && (text[k] == ' ' || text[k] == '\t')) ++k;
+    const bool is_vertex = k + 1 < end && text[k] == 'v' && (text[k + 1] == ' ' || text[k + 1] == '\t');
+    if (!is_vertex) {
+      out.append(text, pos, end - pos);
+      pos = end;
+      continue;
+    }
+    // Parse the three coordinates to see whether this vertex moved, and where they end.
+    std::size_t cursor = k + 1;
+    Vec3 old{};
+    for (double& c : old) {
+      while (cursor < end && (text[cursor] == ' ' || text[cursor] == '\t')) ++cursor;
+      std::size_t token_end = cursor;
+      while (token_end < end && text[token_end] != ' ' && text[token_end] != '\t' &&
+             text[token_end] != '\r' && text[token_end] != '\n')
+        ++token_end;
+      const char* first = text.data() + cursor;
+      if (*first == '+') ++first;
+      std::from_chars(first, text.data() + token_end, c);
+      cursor = token_end;
+    }
+    if (vertex >= mesh.positions.size()) fail(input, "vertex count changed while writing");
+    const Vec3& p = mesh.positions[vertex++];
+    if (p == old) {
+      out.append(text, pos, end - pos);
+    } else {
+      out.append(text, pos, k - pos);
+      out += "v ";
+      append_number(out, p[0]);
+      out += ' ';
+      append_number(out, p[1]);
+      out += ' ';
+      append_number(out, p[2]);
+      out.append(text, cursor, end - cursor);  // w, vertex colours and the line ending stay
+    }
+    pos = end;
+  }
+  return out;
+}
+
+void collect_nodes(const aiNode& node, const aiMatrix4x4& parent,
+                   std::vector<std::pair<unsigned, aiMatrix4x4>>& out) {
+  const aiMatrix4x4 world = parent * node.mTransformation;
+  for (unsigned k = 0; k < node.mNumMeshes; ++k) out.push_back({node.mMeshes[k], world});
+  for (unsigned c = 0; c < node.mNumChildren; ++c) collect_nodes(*node.mChildren[c], world, out);
+}
+
+std::string export_format(const Assimp::Exporter& exporter, const std::string& ext) {
+  std::string found;
+  for (std::size_t i = 0; i < exporter.GetExportFormatCount(); ++i) {
+    const aiExportFormatDesc* d = exporter.GetExportFormatDescription(i);
+    if (ext != d->fileExtension) continue;
+    const std::string id = d->id;
+    // glTF: prefer version 2; PLY and STL: the first listed (text) unless binary is asked for.
+    if (found.empty() || id == "gltf2" || id == "glb2") found = id;
+  }
+  return found;
+}
+
+void write_with_assimp(const std::string& input, const std::string& output,
+                       const std::vector<const Mesh*>& meshes) {
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(input, 0);
+  if (scene == nullptr || scene->mRootNode == nullptr) fail(output, "cannot re-read " + input);
+  std::vector<std::pair<unsigned, aiMatrix4x4>> instances;
+  collect_nodes(*scene->mRootNode, aiMatrix4x4(), instances);
+  std::size_t next = 0;
+  std::vector<std::uint8_t> done(scene->mNumMeshes, 0);
+  for (const auto& [index, world] : instances) {
+    aiMesh& mesh = *scene->mMeshes[index];
+    bool has_triangles = false;
+    for (unsigned f = 0; f < mesh.mNumFaces && !has_triangles; ++f)
+      has_triangles = mesh.mFaces[f].mNumIndices >= 3;
+    if (!has_triangles) continue;
+    if (next >= meshes.size()) fail(output, "mesh count changed while writing");
+    const Mesh& ours = *meshes[next++];
+    if (done[index]) continue;  // an instanced mesh keeps the positions of its first instance
+    done[index] = 1;
+    if (ours.positions.size() != mesh.mNumVertices) fail(output, "vertex count changed while writing");
+    aiMatrix4x4 inverse = world;
+    inverse.Inverse();
+    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
+      const aiVector3D world_point(static_cast<ai_real>(ours.positions[v][0]),
+                                   static_cast<ai_real>(ours.positions[v][1]),
+                                   static_cast<ai_real>(ours.positions[v][2]));
+      const aiVector3D back = world * mesh.mVertices[v];
+      // Unmoved vertices keep their stored value exactly (no round trip through the transform).
+      if (back == world_point) continue;
+      mesh.mVertices[v] = inverse * world_point;
+    }
+  }
+  Assimp::Exporter exporter;
+  const std::string format = export_format(exporter, extension_of(output));
+  if (format.empty()) fail(output, "no writer for the format ." + extension_of(output));
+  if (exporter.Export(scene, format, output) != AI_SUCCESS) {
+    std::string why = exporter.GetErrorString();
+    for (char& c : why)
+      if (c == '\n') c = ' ';
+    fail(output, "export failed: " + why);
+  }
+}
+
+}  // namespace
+
+bool can_write(const std::string& output) {
+  const std::string ext = extension_of(output);
+  if (ext == "obj") return true;
+  Assimp::Exporter exporter;
+  return !export_format(exporter, ext).empty();
+}
+
+std::function<Vec3(const Vec3&)> output_rounding(const std::string& output) {
+  if (extension_of(output) == "obj") return {};
+  return [](const Vec3& p) {
+    return Vec3{static_cast<double>(static_cast<float>(p[0])), static_cast<double>(static_cast<float>(p[1])),
+                static_cast<double>(static_cast<float>(p[2]))};
+  };
+}
+
+void write_meshes(const std::string& input, const std::string& output,
+                  const std::vector<const Mesh*>& meshes) {
+  const fs::path target(output);
+  const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) fail(output, "folder " + folder.string() + " does not exist");
+  // Write into a private temporary folder next to the output (formats such as glTF write side
+  // files), then move every file into place.
+  std::mt19937_64 rng(std::random_device{}());
+  const fs::path temp = folder / (".untangle-tmp-" + std::to_string(rng()));
+  if (!fs::create_directory(temp, ec)) fail(output, "cannot create a temporary folder in " + folder.string());
+  struct Cleanup {
+    fs::path path;
+    ~Cleanup() {
+      std::error_code e;
+      fs::remove_all(path, e);
+    }
+  } cleanup{temp};
+  const fs::path staged = temp / target.filename();
+  if (extension_of(input) == "obj" && extension_of(output) == "obj" && meshes.size() == 1) {
+    const std::string text = rewrite_obj(input, *meshes.front());
+    std::ofstream file(staged, std::ios::binary);
+    file << text;
+    file.flush();
+    if (!file) fail(output, "write failed");
+  } else {
+    write_with_assimp(input, staged.string(), meshes);
+  }
+  for (const auto& entry : fs::directory_iterator(temp)) {
+    fs::rename(entry.path(), folder / entry.path().filename(), ec);
+    if (ec) fail(output, "cannot move the written file into place: " + ec.message());
+  }
+}
+
+}  // namespace untangle

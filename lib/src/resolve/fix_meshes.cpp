@@ -1,0 +1,583 @@
+// fix_meshes: detect -> contours -> regions -> displacements, until clean, capped or stalled.
+#include "untangle/fix.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <memory>
+
+#include "check/summarize.h"
+#include "contour/build_contours.h"
+#include "detect/detect_crossings.h"
+#include "detect/orientation.h"
+#include "resolve/region_analysis.h"
+#include "topology/scene_topology.h"
+
+namespace untangle {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using TriangleList = std::vector<Kernel::Triangle_3>;
+using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleList::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using Clock = std::chrono::steady_clock;
+
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+Vec3 scale(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
+double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+Vec3 unit(const Vec3& a) {
+  const double n = norm(a);
+  return n > 0.0 ? scale(a, 1.0 / n) : Vec3{0.0, 0.0, 0.0};
+}
+
+double ms(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// The closest-point structure of one mesh at the current positions.
+struct MeshTree {
+  TriangleList triangles;
+  std::vector<std::uint32_t> ids;  // global triangle id per entry
+  Tree tree;
+};
+
+std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo, std::uint32_t m) {
+  auto out = std::make_unique<MeshTree>();
+  for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) {
+    const auto& tri = topo.tris[t];
+    auto p = [&](int k) {
+      const Vec3& v = topo.points[tri[k]];
+      return Kernel::Point_3(v[0], v[1], v[2]);
+    };
+    out->triangles.emplace_back(p(0), p(1), p(2));
+    out->ids.push_back(t);
+  }
+  out->tree.insert(out->triangles.begin(), out->triangles.end());
+  out->tree.accelerate_distance_queries();
+  return out;
+}
+
+Vec3 face_normal(const SceneTopology& topo, std::uint32_t t) {
+  const auto& tri = topo.tris[t];
+  return unit(cross(sub(topo.points[tri[1]], topo.points[tri[0]]),
+                    sub(topo.points[tri[2]], topo.points[tri[0]])));
+}
+
+// Accumulated moves of one iteration, per welded vertex.
+struct Moves {
+  std::vector<Vec3> region;
+  std::vector<std::uint8_t> has_region;
+  std::vector<Vec3> crossing;
+  std::vector<std::uint32_t> crossing_count;
+
+  explicit Moves(std::size_t n)
+      : region(n, Vec3{0, 0, 0}), has_region(n, 0), crossing(n, Vec3{0, 0, 0}), crossing_count(n, 0) {}
+
+  void push(std::uint32_t v, const Vec3& d) {
+    crossing[v] = add(crossing[v], d);
+    ++crossing_count[v];
+  }
+};
+
+class Solver {
+ public:
+  Solver(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
+         const std::function<Vec3(const Vec3&)>& round)
+      : meshes_(meshes), options_(options), round_(round), topo_(build_topology(meshes)) {
+    const std::size_t nv = topo_.points.size();
+    free_.assign(nv, 0);
+    for (std::uint32_t v = 0; v < nv; ++v)
+      free_[v] = meshes_[topo_.vertex_mesh[v]].role == Role::kMovable ? 1 : 0;
+    for (std::size_t m = 0; m < pins.size() && m < meshes_.size(); ++m) {
+      for (std::size_t i = 0; i < pins[m].size() && i < topo_.welded[m].size(); ++i)
+        if (pins[m][i]) free_[topo_.welded[m][i]] = 0;
+    }
+    // Mean edge length per mesh and per vertex (fixed at the start: steps stay relative to the
+    // asset's own scale).
+    mean_edge_.assign(meshes_.size(), 0.0);
+    std::vector<std::size_t> edge_count(meshes_.size(), 0);
+    vertex_edge_.assign(nv, 0.0);
+    std::vector<std::uint32_t> incident(nv, 0);
+    for (const auto& e : topo_.edges) {
+      const double len = norm(sub(topo_.points[e[0]], topo_.points[e[1]]));
+      const std::uint32_t m = topo_.vertex_mesh[e[0]];
+      mean_edge_[m] += len;
+      ++edge_count[m];
+      for (std::uint32_t v : e) {
+        vertex_edge_[v] += len;
+        ++incident[v];
+      }
+    }
+    for (std::size_t m = 0; m < meshes_.size(); ++m)
+      if (edge_count[m] > 0) mean_edge_[m] /= static_cast<double>(edge_count[m]);
+    for (std::uint32_t v = 0; v < nv; ++v)
+      vertex_edge_[v] = incident[v] > 0 ? vertex_edge_[v] / incident[v] : mean_edge_[topo_.vertex_mesh[v]];
+    settings_.threads = options.threads;
+    region_settings_.outside_closed_obstacles = options.outside_closed_obstacles;
+    for (std::uint32_t m = 0; m < meshes_.size(); ++m) {
+      const bool obstacle = meshes_[m].role == Role::kObstacle;
+      settings_.skip_among.push_back(obstacle);
+      region_settings_.obstacle.push_back(obstacle);
+      region_settings_.orientation.push_back(closed_orientation(topo_, m));
+    }
+    moved_.assign(nv, 0);
+    start_points_ = topo_.points;
+  }
+
+  FixResult run(const FixProgress& progress) {
+    FixResult result;
+    const auto start = Clock::now();
+    std::size_t best_crossings = static_cast<std::size_t>(-1);
+    double best_length = INFINITY;
+    int since_best = 0;
+    for (int iteration = 0;; ++iteration) {
+      const auto t0 = Clock::now();
+      const CrossingSet set = detect_crossings(topo_, settings_);
+      const auto t1 = Clock::now();
+      const std::vector<TracedContour> traced = build_contours(topo_, set);
+      const auto t2 = Clock::now();
+      result.detect_ms += ms(t0, t1);
+      result.contours_ms += ms(t1, t2);
+      IntersectionCounts counts = summarize(topo_, set, traced).counts;
+      if (iteration == 0) result.before = counts;
+      IterationRecord record;
+      record.iteration = iteration;
+      record.crossings = counts.crossings;
+      record.contour_length = counts.contour_length;
+      record.elapsed_ms = ms(start, Clock::now());
+      result.history.push_back(record);
+      result.iterations = iteration;
+      if (progress && !progress(record)) break;
+      if (set.items.empty()) {
+        result.clean = true;
+        break;
+      }
+      if (counts.crossings < best_crossings ||
+          (counts.crossings == best_crossings && counts.contour_length < best_length)) {
+        best_points_ = topo_.points;  // the state written if the run ends unresolved
+      }
+      if (counts.crossings < best_crossings || counts.contour_length < best_length * (1.0 - 1e-3)) {
+        best_crossings = std::min(best_crossings, counts.crossings);
+        best_length = std::min(best_length, counts.contour_length);
+        since_best = 0;
+      } else if (++since_best >= options_.stall_iterations) {
+        result.stalled = true;
+        break;
+      }
+      if (iteration >= options_.max_iterations) break;
+      const bool moved = step(set, traced, result);
+      result.resolve_ms += ms(t2, Clock::now());
+      if (!moved) {
+        result.stalled = true;
+        break;
+      }
+    }
+    if (!result.clean && !best_points_.empty()) topo_.points = best_points_;
+    const CrossingSet set = detect_crossings(topo_, settings_);
+    const std::vector<TracedContour> traced = build_contours(topo_, set);
+    result.remaining = summarize(topo_, set, traced);
+    result.after = result.remaining.counts;
+    result.clean = set.items.empty();
+    write_back(result);
+    return result;
+  }
+
+ private:
+  // One displacement step. Returns false when nothing could move.
+  bool step(const CrossingSet& set, const std::vector<TracedContour>& traced, FixResult& result) {
+    const RegionAnalysis analysis = analyse_regions(topo_, set, traced, region_settings_);
+    Moves moves(topo_.points.size());
+
+    // Which illegal sets move: movable meshes only; between two movable meshes, the side with the
+    // smaller illegal area (the other keeps its shape).
+    std::vector<const IllegalSet*> moving;
+    for (const IllegalSet& s : analysis.illegal) {
+      // Self sets have no other surface to move across: their labels steer the crossing rule.
+      if (meshes_[s.mesh].role != Role::kMovable || s.mesh == s.partner) continue;
+      bool smaller = true;
+      for (const IllegalSet& o : analysis.illegal) {
+        if (o.mesh == s.partner && o.partner == s.mesh && meshes_[o.mesh].role == Role::kMovable &&
+            (o.area < s.area || (o.area == s.area && o.mesh < s.mesh)))
+          smaller = false;
+      }
+      if (!smaller) continue;
+      bool any_free = false;
+      for (std::uint32_t v : s.vertices) any_free = any_free || free_[v];
+      if (!any_free) continue;
+      moving.push_back(&s);
+      if (s.rule == RegionRule::kInside) ++result.illegal_regions_by_inside;
+      else ++result.illegal_regions_by_area;
+    }
+
+    std::vector<std::uint8_t> in_moving_set(topo_.points.size(), 0);
+    if (options_.method == FixMethod::kRegion) {
+      std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;
+      for (const IllegalSet* s : moving) {
+        auto& tree = trees[s->partner];
+        if (!tree) tree = build_tree(topo_, s->partner);
+        for (std::uint32_t v : s->vertices) in_moving_set[v] = 1;
+        move_regions(*s, *tree, moves);
+      }
+    }
+
+    // Per-crossing rule: every crossing (paper method), or those of contours that no moving
+    // illegal region touches (region method).
+    for (const TracedContour& t : traced) {
+      const Contour& c = t.contour;
+      bool covered = false;
+      if (options_.method == FixMethod::kRegion) {
+        for (std::uint32_t ci : c.crossings) {
+          const RawCrossing& x = set.items[ci];
+          for (std::uint32_t v : topo_.edges[x.edge]) covered = covered || in_moving_set[v];
+          for (std::uint32_t v : topo_.tris[x.face]) covered = covered || in_moving_set[v];
+        }
+      }
+      if (covered) continue;
+      crossing_moves(set, t, analysis, moves);
+    }
+
+    return apply(moves);
+  }
+
+  // Moves every connected part of an illegal set across the partner surface. Three candidate
+  // moves per part, and the one that strains the part's edges least wins:
+  //  - to the closest point of the partner, plus the clearance (a thin layer stays thin);
+  //  - mirrored through that closest point (a part sticking far through folds back, keeping its
+  //    shape instead of collapsing onto the surface);
+  //  - along the part's own normal to where that ray leaves the partner (a sheet cut through the
+  //    middle of a closed body bulges over it instead of being squeezed sideways).
+  void move_regions(const IllegalSet& set, const MeshTree& tree, Moves& moves) {
+    const double clearance = options_.clearance * mean_edge_[set.mesh];
+    const int orientation = region_settings_.orientation[set.partner];
+    const std::uint32_t base = topo_.mesh_vertex_begin[set.mesh];
+    const std::uint32_t end = topo_.mesh_vertex_begin[set.mesh + 1];
+    std::vector<std::uint8_t> member(end - base, 0);
+    for (std::uint32_t v : set.vertices) member[v - base] = 1;
+
+    // Vertex normals of the mesh (area weighted).
+    std::vector<Vec3> normal(end - base, Vec3{0, 0, 0});
+    for (std::uint32_t t = topo_.mesh_tri_begin[set.mesh]; t < topo_.mesh_tri_begin[set.mesh + 1]; ++t) {
+      const auto& tri = topo_.tris[t];
+      bool touches = false;
+      for (std::uint32_t v : tri) touches = touches || member[v - base];
+      if (!touches) continue;
+      const Vec3 n = cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
+                           sub(topo_.points[tri[2]], topo_.points[tri[0]]));
+      for (std::uint32_t v : tri) normal[v - base] = add(normal[v - base], n);
+    }
+
+    // Connected parts of the set.
+    std::vector<std::uint8_t> seen(end - base, 0);
+    for (std::uint32_t seed : set.vertices) {
+      if (seen[seed - base]) continue;
+      std::vector<std::uint32_t> part{seed};
+      seen[seed - base] = 1;
+      for (std::size_t i = 0; i < part.size(); ++i) {
+        const std::uint32_t v = part[i];
+        for (std::uint32_t k = topo_.vertex_edge_begin[v]; k < topo_.vertex_edge_begin[v + 1]; ++k) {
+          const auto& e = topo_.edges[topo_.vertex_edges[k]];
+          const std::uint32_t w = e[0] == v ? e[1] : e[0];
+          if (member[w - base] && !seen[w - base]) {
+            seen[w - base] = 1;
+            part.push_back(w);
+          }
+        }
+      }
+      std::sort(part.begin(), part.end());
+
+      const std::size_t n = part.size();
+      std::vector<Vec3> closest(n), mirror(n), ray_up(n), ray_down(n);
+      bool up_ok = true, down_ok = true;
+      for (std::size_t i = 0; i < n; ++i) {
+        const Vec3& p = topo_.points[part[i]];
+        const Kernel::Point_3 query(p[0], p[1], p[2]);
+        const auto hit = tree.tree.closest_point_and_primitive(query);
+        const Vec3 c{hit.first.x(), hit.first.y(), hit.first.z()};
+        const std::uint32_t face =
+            tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
+        const Vec3 to = sub(c, p);
+        Vec3 dir = unit(to);
+        if (norm(to) == 0.0) dir = scale(face_normal(topo_, face), orientation >= 0 ? 1.0 : -1.0);
+        closest[i] = add(to, scale(dir, clearance));
+        mirror[i] = add(scale(to, 2.0), scale(dir, clearance));
+        const Vec3 nv = unit(normal[part[i] - base]);
+        for (int sign : {1, -1}) {
+          bool& ok = sign > 0 ? up_ok : down_ok;
+          if (!ok) continue;
+          const Vec3 d = scale(nv, sign);
+          if (norm(d) == 0.0) {
+            ok = false;
+            continue;
+          }
+          const auto exit = tree.tree.first_intersection(
+              Kernel::Ray_3(query, Kernel::Vector_3(d[0], d[1], d[2])));
+          const Kernel::Point_3* point = nullptr;
+          if (exit) point = boost::get<Kernel::Point_3>(&exit->first);
+          if (point == nullptr) {
+            ok = false;
+            continue;
+          }
+          const Vec3 x{point->x(), point->y(), point->z()};
+          (sign > 0 ? ray_up : ray_down)[i] = add(sub(x, p), scale(d, clearance));
+        }
+      }
+      const std::vector<Vec3>* best = &closest;
+      double best_score = strain(part, member, base, closest);
+      const double mirror_score = strain(part, member, base, mirror);
+      if (mirror_score < best_score) {
+        best = &mirror;
+        best_score = mirror_score;
+      }
+      if (up_ok) {
+        const double score = strain(part, member, base, ray_up);
+        if (score < best_score) {
+          best = &ray_up;
+          best_score = score;
+        }
+      }
+      if (down_ok) {
+        const double score = strain(part, member, base, ray_down);
+        if (score < best_score) best = &ray_down;
+      }
+      for (std::size_t i = 0; i < n; ++i) {
+        moves.region[part[i]] = add(moves.region[part[i]], (*best)[i]);
+        moves.has_region[part[i]] = 1;
+      }
+    }
+  }
+
+  // How much a candidate move of `part` strains the mesh: relative length change of every edge
+  // touching the part, plus a heavy penalty for each triangle it collapses.
+  double strain(const std::vector<std::uint32_t>& part, const std::vector<std::uint8_t>& member,
+                std::uint32_t base, const std::vector<Vec3>& delta) const {
+    auto moved = [&](std::uint32_t v) {
+      if (!member[v - base]) return topo_.points[v];
+      const auto it = std::lower_bound(part.begin(), part.end(), v);
+      if (it == part.end() || *it != v) return topo_.points[v];  // another part: unchanged here
+      return add(topo_.points[v], delta[static_cast<std::size_t>(it - part.begin())]);
+    };
+    double score = 0.0;
+    for (std::uint32_t v : part) {
+      for (std::uint32_t k = topo_.vertex_edge_begin[v]; k < topo_.vertex_edge_begin[v + 1]; ++k) {
+        const std::uint32_t e = topo_.vertex_edges[k];
+        const auto& ed = topo_.edges[e];
+        const double before = norm(sub(topo_.points[ed[0]], topo_.points[ed[1]]));
+        const double after = norm(sub(moved(ed[0]), moved(ed[1])));
+        if (before > 0.0) score += std::abs(after - before) / before;
+        for (std::uint32_t i = topo_.edge_face_begin[e]; i < topo_.edge_face_begin[e + 1]; ++i) {
+          const auto& tri = topo_.tris[topo_.edge_faces[i]];
+          const double a0 = norm(cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
+                                       sub(topo_.points[tri[2]], topo_.points[tri[0]])));
+          const Vec3 q0 = moved(tri[0]);
+          const double a1 = norm(cross(sub(moved(tri[1]), q0), sub(moved(tri[2]), q0)));
+          if (a1 < 0.05 * a0) score += 5.0;
+        }
+      }
+    }
+    return score;
+  }
+
+  // Label of welded vertex v of mesh `m` with respect to `partner` (-1 undecided).
+  int label(const RegionAnalysis& analysis, std::uint32_t m, std::uint32_t partner,
+            std::uint32_t v) const {
+    auto it = analysis.labels.find({m, partner});
+    if (it == analysis.labels.end()) return -1;
+    return it->second[v - topo_.mesh_vertex_begin[m]];
+  }
+
+  void crossing_moves(const CrossingSet& set, const TracedContour& t, const RegionAnalysis& analysis,
+                      Moves& moves) {
+    const Contour& c = t.contour;
+    const std::size_t n = c.crossings.size();
+    // Which end of an open contour lies on each mesh's boundary (for the BI rule).
+    auto end_on_boundary_of = [&](std::size_t index, std::uint32_t mesh) {
+      const RawCrossing& x = set.items[c.crossings[index]];
+      return topo_.is_boundary(x.edge) && topo_.edge_mesh(x.edge) == mesh;
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      const RawCrossing& x = set.items[c.crossings[i]];
+      const std::uint32_t p_mesh = topo_.edge_mesh(x.edge);
+      const std::uint32_t q_mesh = topo_.tri_mesh[x.face];
+      const std::uint32_t a = topo_.edges[x.edge][0], b = topo_.edges[x.edge][1];
+      const auto& f = topo_.tris[x.face];
+      // Unit vectors from x to its neighbours on the contour.
+      Vec3 r_prev{0, 0, 0}, r_next{0, 0, 0};
+      if (i > 0 || c.closed) r_prev = unit(sub(set.items[c.crossings[(i + n - 1) % n]].point, x.point));
+      if (i + 1 < n || c.closed) r_next = unit(sub(set.items[c.crossings[(i + 1) % n]].point, x.point));
+      const Vec3 in_plane = scale(add(r_prev, r_next), options_.lambda);
+      const double local = 0.5 * (norm(sub(topo_.points[a], topo_.points[b])) +
+                                  mean_edge_[q_mesh]);
+      const double len = options_.step * local;
+
+      Vec3 d{0, 0, 0};
+      bool face_side = false;  // the face's mesh holds the labels: it moves along +d
+      const int la = label(analysis, p_mesh, q_mesh, a);
+      const int lb = label(analysis, p_mesh, q_mesh, b);
+      int f_legal = 0, f_illegal = 0;
+      Vec3 f_legal_sum{0, 0, 0};
+      for (std::uint32_t v : f) {
+        const int l = label(analysis, q_mesh, p_mesh, v);
+        if (l == 0) {
+          ++f_legal;
+          f_legal_sum = add(f_legal_sum, topo_.points[v]);
+        }
+        if (l == 1) ++f_illegal;
+      }
+      const Vec3 nf = face_normal(topo_, x.face);
+      const int q_orientation = region_settings_.orientation[q_mesh];
+      if (la >= 0 && lb >= 0 && la != lb) {
+        // e has a legal endpoint: n_r is f's normal turned toward it (Eq. 1).
+        const std::uint32_t legal = la == 0 ? a : b;
+        const int s = orient_sos(topo_.points, f[0], f[1], f[2], legal);
+        d = add(scale(nf, s), in_plane);
+      } else if (f_legal > 0 && f_illegal > 0) {
+        // The face side holds the illegal region: the normal of P near e, toward f's legal side.
+        Vec3 ne{0, 0, 0};
+        for (std::uint32_t k = topo_.edge_face_begin[x.edge]; k < topo_.edge_face_begin[x.edge + 1]; ++k)
+          ne = add(ne, face_normal(topo_, topo_.edge_faces[k]));
+        ne = unit(ne);
+        const Vec3 toward = sub(scale(f_legal_sum, 1.0 / f_legal), x.point);
+        d = add(scale(ne, dot(ne, toward) >= 0 ? 1.0 : -1.0), in_plane);
+        face_side = true;
+      } else if (!c.self && q_orientation != 0 && options_.outside_closed_obstacles &&
+                 meshes_[q_mesh].role == Role::kObstacle) {
+        // A closed obstacle: e's endpoint outside it is the legal one.
+        const int s = orient_sos(topo_.points, f[0], f[1], f[2], a) * q_orientation;
+        const std::uint32_t legal = s > 0 ? a : b;
+        d = add(scale(nf, orient_sos(topo_.points, f[0], f[1], f[2], legal)), in_plane);
+      } else if (!c.closed && !c.self &&
+                 ((end_on_boundary_of(0, q_mesh)) || end_on_boundary_of(n - 1, q_mesh))) {
+        // BI rule: slide e toward the end of the contour on the other mesh's boundary.
+        d = end_on_boundary_of(n - 1, q_mesh) ? r_next : r_prev;
+        if (norm(d) == 0.0) d = end_on_boundary_of(n - 1, q_mesh) ? scale(r_prev, -1.0) : scale(r_next, -1.0);
+      } else {
+        // Nothing decides: the shallower endpoint of e is taken as the one that went through.
+        const double da = std::abs(dot(nf, sub(topo_.points[a], topo_.points[f[0]])));
+        const double db = std::abs(dot(nf, sub(topo_.points[b], topo_.points[f[0]])));
+        const std::uint32_t legal = da < db ? b : a;
+        d = add(scale(nf, orient_sos(topo_.points, f[0], f[1], f[2], legal)), in_plane);
+      }
+      d = scale(unit(d), len);
+      // Action and reaction, split by mass: obstacles and pinned vertices take nothing.
+      bool e_free = free_[a] || free_[b];
+      bool f_free = free_[f[0]] || free_[f[1]] || free_[f[2]];
+      double we = e_free ? (f_free ? 0.5 : 1.0) : 0.0;
+      double wf = f_free ? (e_free ? 0.5 : 1.0) : 0.0;
+      const Vec3 de = scale(d, face_side ? -we : we);
+      const Vec3 df = scale(d, face_side ? wf : -wf);
+      for (std::uint32_t v : {a, b})
+        if (free_[v]) moves.push(v, de);
+      for (std::uint32_t v : f)
+        if (free_[v]) moves.push(v, df);
+    }
+  }
+
+  // Applies the moves with a per-vertex cap and a guard against inverted triangles.
+  bool apply(const Moves& moves) {
+    const std::size_t nv = topo_.points.size();
+    std::vector<Vec3> delta(nv, Vec3{0, 0, 0});
+    std::vector<std::uint8_t> active(nv, 0);
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      if (!free_[v]) continue;
+      Vec3 d{0, 0, 0};
+      if (moves.has_region[v]) d = moves.region[v];
+      else if (moves.crossing_count[v] > 0) d = scale(moves.crossing[v], 1.0 / moves.crossing_count[v]);
+      // Per-crossing steps are capped; a region moves whole, as far as it must.
+      const double len = norm(d);
+      const double cap = options_.max_step * vertex_edge_[v];
+      if (!moves.has_region[v] && len > cap) d = scale(d, cap / len);
+      if (norm(d) == 0.0) continue;
+      delta[v] = d;
+      active[v] = 1;
+    }
+    // Triangles that would flip (or turn by more than ~85 degrees) halve their corners' moves.
+    for (int round = 0; round < 6; ++round) {
+      bool any = false;
+      for (std::uint32_t t = 0; t < topo_.tris.size(); ++t) {
+        const auto& tri = topo_.tris[t];
+        if (!active[tri[0]] && !active[tri[1]] && !active[tri[2]]) continue;
+        // A triangle moved whole with its region may turn over (a fold is a legal result).
+        if (moves.has_region[tri[0]] && moves.has_region[tri[1]] && moves.has_region[tri[2]]) continue;
+        const Vec3 n0 = cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
+                              sub(topo_.points[tri[2]], topo_.points[tri[0]]));
+        const Vec3 q0 = add(topo_.points[tri[0]], delta[tri[0]]);
+        const Vec3 n1 = cross(sub(add(topo_.points[tri[1]], delta[tri[1]]), q0),
+                              sub(add(topo_.points[tri[2]], delta[tri[2]]), q0));
+        if (dot(n0, n1) > 0.1 * norm(n0) * norm(n1)) continue;
+        any = true;
+        for (std::uint32_t v : tri) delta[v] = round < 5 ? scale(delta[v], 0.5) : Vec3{0, 0, 0};
+      }
+      if (!any) break;
+    }
+    bool moved = false;
+    for (std::uint32_t v = 0; v < nv; ++v) {
+      if (!active[v] || norm(delta[v]) == 0.0) continue;
+      Vec3 p = add(topo_.points[v], delta[v]);
+      if (round_) p = round_(p);
+      if (p == topo_.points[v]) continue;
+      topo_.points[v] = p;
+      moved_[v] = 1;
+      moved = true;
+    }
+    return moved;
+  }
+
+  // Copies moved welded positions to every input vertex of their group; displacement statistics.
+  void write_back(FixResult& result) {
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::uint32_t m = 0; m < meshes_.size(); ++m) {
+      std::vector<Vec3>& positions = meshes_[m].positions;
+      for (std::uint32_t i = 0; i < positions.size(); ++i) {
+        const std::uint32_t v = topo_.welded[m][i];
+        if (!moved_[v] || topo_.points[v] == start_points_[v]) continue;
+        const double d = norm(sub(topo_.points[v], positions[i]));
+        positions[i] = topo_.points[v];
+        ++count;
+        sum += d;
+        if (d > result.displacement.max) {
+          result.displacement.max = d;
+          result.displacement.max_over_mean_edge = mean_edge_[m] > 0 ? d / mean_edge_[m] : 0.0;
+        }
+      }
+    }
+    result.displacement.moved_vertices = count;
+    result.displacement.mean = count > 0 ? sum / static_cast<double>(count) : 0.0;
+  }
+
+  std::vector<Mesh>& meshes_;
+  const FixOptions& options_;
+  std::function<Vec3(const Vec3&)> round_;
+  SceneTopology topo_;
+  DetectSettings settings_;
+  RegionSettings region_settings_;
+  std::vector<std::uint8_t> free_;
+  std::vector<std::uint8_t> moved_;
+  std::vector<double> mean_edge_;
+  std::vector<double> vertex_edge_;
+  std::vector<Vec3> start_points_;
+  std::vector<Vec3> best_points_;
+};
+
+}  // namespace
+
+const char* to_string(FixMethod method) { return method == FixMethod::kRegion ? "region" : "paper"; }
+
+FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
+                     const std::function<Vec3(const Vec3&)>& round, const FixProgress& progress) {
+  Solver solver(meshes, options, pins, round);
+  return solver.run(progress);
+}
+
+}  // namespace untangle

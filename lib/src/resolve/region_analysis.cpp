@@ -1,0 +1,201 @@
+// Region analysis: cut edges per (mesh, partner), flood-filled regions, inside or area labels.
+#include "resolve/region_analysis.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "detect/orientation.h"
+
+namespace untangle {
+namespace {
+
+double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+  const Vec3 v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+  const Vec3 n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+}
+
+}  // namespace
+
+int closed_orientation(const SceneTopology& topo, std::uint32_t m) {
+  // Every edge of the mesh must have two faces that traverse it in opposite directions.
+  for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
+    if (topo.edge_mesh(e) != m) continue;
+    if (topo.edge_face_count(e) != 2) return 0;
+    int direction = 0;
+    for (std::uint32_t i = topo.edge_face_begin[e]; i < topo.edge_face_begin[e + 1]; ++i) {
+      const auto& tri = topo.tris[topo.edge_faces[i]];
+      for (int k = 0; k < 3; ++k) {
+        if (tri[k] == topo.edges[e][0] && tri[(k + 1) % 3] == topo.edges[e][1]) ++direction;
+        if (tri[k] == topo.edges[e][1] && tri[(k + 1) % 3] == topo.edges[e][0]) --direction;
+      }
+    }
+    if (direction != 0) return 0;
+  }
+  double volume = 0.0;
+  bool any = false;
+  for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) {
+    const Vec3& a = topo.points[topo.tris[t][0]];
+    const Vec3& b = topo.points[topo.tris[t][1]];
+    const Vec3& c = topo.points[topo.tris[t][2]];
+    volume += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+              a[2] * (b[0] * c[1] - b[1] * c[0]);
+    any = true;
+  }
+  if (!any || volume == 0.0) return 0;
+  return volume > 0.0 ? 1 : -1;
+}
+
+RegionAnalysis analyse_regions(const SceneTopology& topo, const CrossingSet& set,
+                               const std::vector<TracedContour>& contours,
+                               const RegionSettings& settings) {
+  RegionAnalysis out;
+  // Contours grouped by the (ordered) pair of meshes they join.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> groups;
+  for (std::uint32_t k = 0; k < contours.size(); ++k) {
+    const Contour& c = contours[k].contour;
+    const std::uint32_t a = std::min(c.tracks[0].mesh, c.tracks[1].mesh);
+    const std::uint32_t b = std::max(c.tracks[0].mesh, c.tracks[1].mesh);
+    groups[{a, b}].push_back(k);
+  }
+
+  std::vector<double> vertex_area(topo.points.size(), 0.0);
+  for (const auto& tri : topo.tris) {
+    const double a = triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]);
+    for (std::uint32_t v : tri) vertex_area[v] += a / 3.0;
+  }
+
+  std::vector<std::uint8_t> cut(topo.edges.size(), 0);
+  std::vector<std::uint32_t> region;
+  for (const auto& [key, members] : groups) {
+    // A self-intersecting mesh is its own partner: one side, cut by both tracks of its contours.
+    for (int side = 0; side < (key.first == key.second ? 1 : 2); ++side) {
+      const std::uint32_t mesh = side == 0 ? key.first : key.second;
+      const std::uint32_t partner = side == 0 ? key.second : key.first;
+      // Edges of `mesh` crossed an odd number of times by all contours of the group together.
+      std::vector<std::uint32_t> crossed;
+      for (std::uint32_t k : members) {
+        const TracedContour& traced = contours[k];
+        for (std::size_t i = 0; i < traced.contour.crossings.size(); ++i) {
+          const std::uint32_t edge = set.items[traced.contour.crossings[i]].edge;
+          if (topo.edge_mesh(edge) == mesh) crossed.push_back(edge);
+        }
+      }
+      std::sort(crossed.begin(), crossed.end());
+      std::vector<std::uint32_t> odd;
+      for (std::size_t i = 0; i < crossed.size();) {
+        std::size_t j = i;
+        while (j < crossed.size() && crossed[j] == crossed[i]) ++j;
+        if ((j - i) % 2 == 1) odd.push_back(crossed[i]);
+        i = j;
+      }
+      if (odd.empty()) continue;
+      for (std::uint32_t e : odd) cut[e] = 1;
+      const std::size_t region_count = flood_regions(topo, mesh, cut, region);
+      for (std::uint32_t e : odd) cut[e] = 0;
+      const std::uint32_t base = topo.mesh_vertex_begin[mesh];
+      const std::uint32_t end = topo.mesh_vertex_begin[mesh + 1];
+
+      std::vector<double> area(region_count, 0.0);
+      for (std::uint32_t v = base; v < end; ++v) area[region[v - base]] += vertex_area[v];
+      std::vector<std::int8_t> region_label(region_count, -1);
+      RegionRule rule = RegionRule::kArea;
+
+      const bool by_inside = mesh != partner && settings.outside_closed_obstacles && settings.obstacle[partner] &&
+                             settings.orientation[partner] != 0;
+      if (by_inside) {
+        // Each cleanly cut edge has one endpoint inside the closed obstacle: the one on the inner
+        // side of the face it crosses. Regions vote with their endpoints.
+        rule = RegionRule::kInside;
+        std::vector<int> votes(region_count, 0);
+        for (std::uint32_t e : odd) {
+          std::uint32_t face = kNone;
+          auto it = std::lower_bound(set.items.begin(), set.items.end(), e,
+                                     [](const RawCrossing& c, std::uint32_t x) { return c.edge < x; });
+          for (; it != set.items.end() && it->edge == e; ++it) {
+            if (topo.tri_mesh[it->face] == partner) {
+              face = it->face;
+              break;
+            }
+          }
+          if (face == kNone) continue;
+          const auto& f = topo.tris[face];
+          const std::uint32_t a = topo.edges[e][0], b = topo.edges[e][1];
+          const int side_a = orient_sos(topo.points, f[0], f[1], f[2], a) * settings.orientation[partner];
+          const std::uint32_t inside = side_a < 0 ? a : b;
+          const std::uint32_t outside = side_a < 0 ? b : a;
+          votes[region[inside - base]] += 1;
+          votes[region[outside - base]] -= 1;
+        }
+        for (std::size_t r = 0; r < region_count; ++r) {
+          if (votes[r] > 0) region_label[r] = 1;
+          else if (votes[r] < 0) region_label[r] = 0;
+        }
+      } else {
+        // Two-colour the graph of regions joined by cut edges, starting from the largest region of
+        // each connected part: crossing a cut flips legal and illegal. A region reached with both
+        // colours (an odd cycle) stays as first coloured.
+        std::vector<std::vector<std::uint32_t>> adjacent(region_count);
+        for (std::uint32_t e : odd) {
+          const std::uint32_t ra = region[topo.edges[e][0] - base];
+          const std::uint32_t rb = region[topo.edges[e][1] - base];
+          adjacent[ra].push_back(rb);
+          adjacent[rb].push_back(ra);
+        }
+        std::vector<std::uint32_t> touched;
+        for (std::uint32_t r = 0; r < region_count; ++r)
+          if (!adjacent[r].empty()) touched.push_back(r);
+        std::vector<std::uint8_t> done(region_count, 0);
+        for (;;) {
+          std::uint32_t seed = kNone;
+          for (std::uint32_t r : touched) {
+            if (done[r]) continue;
+            if (seed == kNone || area[r] > area[seed]) seed = r;
+          }
+          if (seed == kNone) break;
+          // Collect this connected part, then colour from its largest region.
+          std::vector<std::uint32_t> queue{seed};
+          done[seed] = 1;
+          region_label[seed] = 0;
+          for (std::size_t i = 0; i < queue.size(); ++i) {
+            const std::uint32_t r = queue[i];
+            for (std::uint32_t s : adjacent[r]) {
+              if (done[s]) continue;
+              done[s] = 1;
+              region_label[s] = static_cast<std::int8_t>(1 - region_label[r]);
+              queue.push_back(s);
+            }
+          }
+          // A region adjacent to itself is not separated by the cuts: undecided.
+          for (std::uint32_t r : queue) {
+            if (std::find(adjacent[r].begin(), adjacent[r].end(), r) != adjacent[r].end())
+              region_label[r] = -1;
+          }
+        }
+      }
+
+      std::vector<std::int8_t>& labels = out.labels[{mesh, partner}];
+      labels.assign(end - base, -1);
+      IllegalSet illegal;
+      illegal.mesh = mesh;
+      illegal.partner = partner;
+      illegal.rule = rule;
+      for (std::uint32_t v = base; v < end; ++v) {
+        labels[v - base] = region_label[region[v - base]];
+        if (labels[v - base] == 1) {
+          illegal.vertices.push_back(v);
+          illegal.area += vertex_area[v];
+        }
+      }
+      for (std::size_t r = 0; r < region_count; ++r) illegal.regions += region_label[r] == 1 ? 1 : 0;
+      if (!illegal.vertices.empty()) out.illegal.push_back(std::move(illegal));
+    }
+  }
+  std::sort(out.illegal.begin(), out.illegal.end(), [](const IllegalSet& a, const IllegalSet& b) {
+    return a.mesh != b.mesh ? a.mesh < b.mesh : a.partner < b.partner;
+  });
+  return out;
+}
+
+}  // namespace untangle
