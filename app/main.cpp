@@ -217,6 +217,8 @@ std::vector<std::string> plan_outputs(const CommonOptions& o) {
     };
     if (ext(o.inputs[k]) == ".obj" && ext(out) != ".obj")
       refuse(out, "an OBJ input is written as OBJ (its lines are kept as they are)");
+    if (ext(out) == ".off" && ext(o.inputs[k]) != ".off")
+      refuse(out, "OFF is written only from an OFF input (its lines are kept as they are)");
   }
   return outputs;
 }
@@ -337,6 +339,9 @@ int run_fix(const CommonOptions& o) {
   timings.verify = ms_since(verify_start);
   timings.total = ms_since(start);
 
+  if (!o.contours.empty()) {
+    untangle::write_text_file_atomically(o.contours, untangle::contours_obj(verified));
+  }
   const bool clean = verified.counts.crossings == 0;
   if (show) {
     std::printf("before: %zu crossings, %zu contours; after %d iterations: %zu crossings, %zu contours\n",
@@ -370,6 +375,7 @@ void add_common(CLI::App& cmd, CommonOptions& o, bool with_check_options) {
   cmd.add_flag("-v,--verbose", o.verbose, "Print more detail");
   if (with_check_options) {
     cmd.add_option("--obstacle", o.obstacles, "A mesh that never moves (repeatable)")
+        ->allow_extra_args(false)
         ->option_text("MESH");
     cmd.add_option("--contours", o.contours, "Write the contour polylines as OBJ to FILE")
         ->option_text("FILE");
@@ -401,13 +407,16 @@ int main(int argc, char** argv) {
       "fix", "Move vertices of the movable meshes until nothing intersects; write the result");
   add_common(*fix, fix_options, true);
   fix->add_option("-o,--output", fix_options.outputs, "Output file, once per movable input, in order")
+      ->allow_extra_args(false)
       ->option_text("OUT");
   fix->add_option("--output-dir", fix_options.output_dir, "Write each output under DIR with its input's file name")
       ->option_text("DIR");
   fix->add_option("--pin", fix_options.pin_files,
                   "File of vertex indices that must not move (0-based, file order; 'INPUT VERTEX' for other inputs)")
+      ->allow_extra_args(false)
       ->option_text("FILE");
   fix->add_option("--pin-group", fix_options.pin_groups, "Pin every vertex of the named group or mesh (repeatable)")
+      ->allow_extra_args(false)
       ->option_text("NAME");
   fix->add_option("--method", fix_options.method,
                   "region: move whole illegal regions (default); paper: Eq. 1 on crossing edges only")

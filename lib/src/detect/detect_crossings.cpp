@@ -131,7 +131,20 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
     if (!tested.empty()) {
       std::vector<Box> copy = tested;
       CGAL::box_self_intersection_d(tested.begin(), tested.end(), callback);
-      if (!skipped.empty()) CGAL::box_intersection_d(copy.begin(), copy.end(), skipped.begin(), skipped.end(), callback);
+      if (settings.skipped_bvh != nullptr) {
+        std::vector<std::uint32_t> hits;
+        for (const Box& box : copy) {
+          const std::uint32_t t = box.info();
+          hits.clear();
+          settings.skipped_bvh->query(triangle_box(topo, t), hits);
+          for (std::uint32_t u : hits) {
+            if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
+            pairs.push_back({std::min(t, u), std::max(t, u)});
+          }
+        }
+      } else if (!skipped.empty()) {
+        CGAL::box_intersection_d(copy.begin(), copy.end(), skipped.begin(), skipped.end(), callback);
+      }
     }
   }
   std::sort(pairs.begin(), pairs.end());

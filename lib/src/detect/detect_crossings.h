@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "detect/triangle_bvh.h"
 #include "topology/scene_topology.h"
 
 namespace untangle {
@@ -28,6 +29,9 @@ struct DetectSettings {
   // Pairs of triangles that both belong to meshes flagged here are not tested (obstacles that
   // never move need no re-detection among themselves). Empty = test every pair.
   std::vector<bool> skip_among;
+  // Optional: a hierarchy over exactly the triangles of the skip_among meshes at their current
+  // positions (they never move, so it is built once and reused every iteration).
+  const TriangleBvh* skipped_bvh = nullptr;
 };
 
 // Whether edge (p, q) passes through triangle (a, b, c) under the symbolic perturbation; ids are

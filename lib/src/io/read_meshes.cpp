@@ -13,6 +13,7 @@
 #include <system_error>
 
 #include "io/read_obj.h"
+#include "io/read_off.h"
 #include "untangle/error.h"
 
 namespace untangle {
@@ -92,6 +93,7 @@ std::vector<Mesh> read_meshes(const std::string& path, Role role) {
   std::string extension = std::filesystem::path(path).extension().string();
   for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (extension == ".obj") return {read_obj(path, role)};
+  if (extension == ".off" && is_plain_off(path)) return {read_off(path, role)};
 
   Assimp::Importer importer;
   // No joining, no pre-transforming, no triangulation by assimp: vertex order stays as in the

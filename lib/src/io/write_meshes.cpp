@@ -13,6 +13,7 @@
 #include <random>
 #include <sstream>
 
+#include "io/read_off.h"
 #include "untangle/error.h"
 
 namespace untangle {
@@ -99,14 +100,30 @@ void collect_nodes(const aiNode& node, const aiMatrix4x4& parent,
   for (unsigned c = 0; c < node.mNumChildren; ++c) collect_nodes(*node.mChildren[c], world, out);
 }
 
-std::string export_format(const Assimp::Exporter& exporter, const std::string& ext) {
+// Whether a PLY or STL file is binary, so that the output keeps the input's encoding.
+bool is_binary(const std::string& path, const std::string& ext) {
+  std::ifstream in(path, std::ios::binary);
+  std::string head(512, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  if (ext == "ply") return head.find("format binary") != std::string::npos;
+  if (ext == "stl") return head.rfind("solid", 0) != 0 || head.find("facet") == std::string::npos;
+  return false;
+}
+
+std::string export_format(const Assimp::Exporter& exporter, const std::string& ext,
+                          const std::string& input = {}) {
+  if (!input.empty() && extension_of(input) == ext && (ext == "ply" || ext == "stl") &&
+      is_binary(input, ext))
+    return ext + "b";
   std::string found;
   for (std::size_t i = 0; i < exporter.GetExportFormatCount(); ++i) {
     const aiExportFormatDesc* d = exporter.GetExportFormatDescription(i);
     if (ext != d->fileExtension) continue;
     const std::string id = d->id;
-    // glTF: prefer version 2; PLY and STL: the first listed (text) unless binary is asked for.
-    if (found.empty() || id == "gltf2" || id == "glb2") found = id;
+    // glTF: prefer version 2. FBX: ASCII, because assimp 5.2 cannot read back the binary FBX it
+    // writes, and every output is verified by reading it back. PLY and STL: the first listed.
+    if (found.empty() || id == "gltf2" || id == "glb2" || id == "fbxa") found = id;
   }
   return found;
 }
@@ -144,7 +161,7 @@ void write_with_assimp(const std::string& input, const std::string& output,
     }
   }
   Assimp::Exporter exporter;
-  const std::string format = export_format(exporter, extension_of(output));
+  const std::string format = export_format(exporter, extension_of(output), input);
   if (format.empty()) fail(output, "no writer for the format ." + extension_of(output));
   if (exporter.Export(scene, format, output) != AI_SUCCESS) {
     std::string why = exporter.GetErrorString();
@@ -158,13 +175,13 @@ void write_with_assimp(const std::string& input, const std::string& output,
 
 bool can_write(const std::string& output) {
   const std::string ext = extension_of(output);
-  if (ext == "obj") return true;
+  if (ext == "obj" || ext == "off") return true;
   Assimp::Exporter exporter;
   return !export_format(exporter, ext).empty();
 }
 
 std::function<Vec3(const Vec3&)> output_rounding(const std::string& output) {
-  if (extension_of(output) == "obj") return {};
+  if (extension_of(output) == "obj" || extension_of(output) == "off") return {};
   return [](const Vec3& p) {
     return Vec3{static_cast<double>(static_cast<float>(p[0])), static_cast<double>(static_cast<float>(p[1])),
                 static_cast<double>(static_cast<float>(p[2]))};
@@ -196,6 +213,15 @@ void write_meshes(const std::string& input, const std::string& output,
     file << text;
     file.flush();
     if (!file) fail(output, "write failed");
+  } else if (extension_of(input) == "off" && extension_of(output) == "off" && meshes.size() == 1 &&
+             is_plain_off(input)) {
+    const std::string text = rewrite_off(input, *meshes.front());
+    std::ofstream file(staged, std::ios::binary);
+    file << text;
+    file.flush();
+    if (!file) fail(output, "write failed");
+  } else if (extension_of(output) == "off") {
+    fail(output, "OFF is written only from a plain OFF input");
   } else {
     write_with_assimp(input, staged.string(), meshes);
   }

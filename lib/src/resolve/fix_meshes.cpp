@@ -16,6 +16,7 @@
 #include "contour/build_contours.h"
 #include "detect/detect_crossings.h"
 #include "detect/orientation.h"
+#include "detect/triangle_bvh.h"
 #include "resolve/region_analysis.h"
 #include "topology/scene_topology.h"
 
@@ -133,6 +134,8 @@ class Solver {
     }
     moved_.assign(nv, 0);
     start_points_ = topo_.points;
+    obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, settings_.skip_among);
+    settings_.skipped_bvh = obstacle_bvh_.get();
   }
 
   FixResult run(const FixProgress& progress) {
@@ -568,6 +571,7 @@ class Solver {
   std::vector<double> vertex_edge_;
   std::vector<Vec3> start_points_;
   std::vector<Vec3> best_points_;
+  std::unique_ptr<TriangleBvh> obstacle_bvh_;
 };
 
 }  // namespace
