@@ -34,8 +34,10 @@ struct Track {
   std::size_t boundary_ends = 0;
   std::size_t cut_edges = 0;  // edges of this mesh crossed an odd number of times by the contour
   // For CL and BB tracks: whether cutting those edges splits the mesh component the track lies on
-  // (vertex flood fill, DESIGN §4), and the area of the smaller side (triangle areas shared equally
-  // among their corners). A track that cuts no edge encloses no vertex and does not separate.
+  // (flood fill, DESIGN §4), and the area of the smaller side (triangle areas shared equally among
+  // their corners). The two sides are grown in lock step from the first cut edge, so the side
+  // found is the one with fewer vertices and the cost is that side's size, not the mesh's. A track
+  // that cuts no edge encloses no vertex: it separates (a disc inside faces) with area 0.
   bool separates = false;
   double smaller_area = 0.0;
 };

@@ -280,7 +280,7 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
     for (std::uint32_t v : tri) vertex_area[v] += a / 3.0;
   }
   std::vector<std::uint8_t> cut(topo.edges.size(), 0);
-  std::vector<std::uint32_t> region;
+  std::vector<std::uint8_t> side_of(topo.points.size(), 0);
   for (TracedContour& traced : out) {
     Contour& contour = traced.contour;
     for (int k = 0; k < 2; ++k) {
@@ -308,30 +308,45 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
         continue;
       }
       for (std::uint32_t e : odd) cut[e] = 1;
-      flood_regions(topo, track.mesh, cut, region);
-      const std::uint32_t base = topo.mesh_vertex_begin[track.mesh];
-      for (std::uint32_t e : odd) {
-        if (region[topo.edges[e][0] - base] != region[topo.edges[e][1] - base]) track.separates = true;
-      }
-      if (track.separates) {
-        // Area of each region touching a cut edge; triangle areas shared equally by their corners.
-        std::vector<double> area;
-        for (std::uint32_t v = base; v < topo.mesh_vertex_begin[track.mesh + 1]; ++v) {
-          const std::uint32_t r = region[v - base];
-          if (r >= area.size()) area.resize(r + 1, 0.0);
-          area[r] += vertex_area[v];
+      // Grow the two sides of the first cut edge in lock step, never crossing a cut: if one side
+      // runs out first it is a separate region (the smaller side by vertex count); if the two
+      // fronts meet, the track separates nothing. Cost: the smaller side, not the mesh.
+      const std::uint32_t seeds[2] = {topo.edges[odd.front()][0], topo.edges[odd.front()][1]};
+      std::vector<std::uint32_t> queue[2] = {{seeds[0]}, {seeds[1]}};
+      std::size_t head[2] = {0, 0};
+      side_of[seeds[0]] = 1;
+      side_of[seeds[1]] = 2;
+      bool met = false;
+      int finished = -1;
+      while (!met && finished < 0) {
+        for (int s = 0; s < 2 && !met && finished < 0; ++s) {
+          if (head[s] == queue[s].size()) {
+            finished = s;
+            break;
+          }
+          const std::uint32_t v = queue[s][head[s]++];
+          for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+            const std::uint32_t e = topo.vertex_edges[i];
+            if (cut[e]) continue;
+            const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
+            if (side_of[w] == 0) {
+              side_of[w] = static_cast<std::uint8_t>(s + 1);
+              queue[s].push_back(w);
+            } else if (side_of[w] != s + 1) {
+              met = true;
+              break;
+            }
+          }
         }
-        std::vector<std::uint32_t> touched;
-        for (std::uint32_t e : odd) {
-          touched.push_back(region[topo.edges[e][0] - base]);
-          touched.push_back(region[topo.edges[e][1] - base]);
-        }
-        std::sort(touched.begin(), touched.end());
-        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-        double smallest = area[touched.front()];
-        for (std::uint32_t r : touched) smallest = std::min(smallest, area[r]);
-        track.smaller_area = smallest;
       }
+      if (!met && finished >= 0) {
+        track.separates = true;
+        double area = 0.0;
+        for (std::uint32_t v : queue[finished]) area += vertex_area[v];
+        track.smaller_area = area;
+      }
+      for (int s = 0; s < 2; ++s)
+        for (std::uint32_t v : queue[s]) side_of[v] = 0;
       for (std::uint32_t e : odd) cut[e] = 0;
     }
   }

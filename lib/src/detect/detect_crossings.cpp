@@ -1,22 +1,17 @@
 // Detection: CGAL box intersection for candidate pairs, exact perturbed predicates for crossings.
 #include "detect/detect_crossings.h"
 
-#include <CGAL/Bbox_3.h>
-#include <CGAL/Box_intersection_d/Box_with_info_d.h>
-#include <CGAL/box_intersection_d.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <memory>
 
 #include "detect/orientation.h"
 
 namespace untangle {
 namespace {
-
-using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t,
-                                                      CGAL::Box_intersection_d::ID_EXPLICIT>;
 
 int shared_vertices(const std::array<std::uint32_t, 3>& a, const std::array<std::uint32_t, 3>& b) {
   int n = 0;
@@ -99,71 +94,76 @@ Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, 
   return {p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1]), p[2] + s * (q[2] - p[2])};
 }
 
-std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& topo,
-                                                          const DetectSettings& settings) {
-  std::vector<Box> boxes;
-  boxes.reserve(topo.tris.size());
-  for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
-    const auto& tri = topo.tris[t];
-    CGAL::Bbox_3 box;
-    for (std::uint32_t v : tri) {
-      const Vec3& p = topo.points[v];
-      box += CGAL::Bbox_3(p[0], p[1], p[2], p[0], p[1], p[2]);
-    }
-    boxes.emplace_back(box, t);
+namespace {
+
+// The broad phase, one tested triangle at a time: `visit(t, u)` for every candidate pair (t, u)
+// whose closed boxes overlap and that share at most one vertex, each pair once, t a triangle of a
+// tested (not skipped) mesh. Triangles are visited in blocks in parallel; `visit` receives the
+// block index so results can be kept per block and joined in order (deterministic).
+template <class Visit>
+void for_each_candidate(const SceneTopology& topo, const DetectSettings& settings,
+                        std::size_t block_size, std::size_t& blocks, const Visit& visit) {
+  const bool skipping = !settings.skip_among.empty();
+  std::vector<bool> tested_mesh(topo.mesh_tri_begin.size() - 1, true);
+  if (skipping)
+    for (std::size_t m = 0; m < tested_mesh.size(); ++m) tested_mesh[m] = !settings.skip_among[m];
+  const TriangleBvh tested_bvh(topo, tested_mesh);
+  std::unique_ptr<TriangleBvh> own_skipped;
+  const TriangleBvh* skipped_bvh = settings.skipped_bvh;
+  if (skipping && skipped_bvh == nullptr) {
+    own_skipped = std::make_unique<TriangleBvh>(topo, settings.skip_among);
+    skipped_bvh = own_skipped.get();
   }
-  std::vector<std::array<std::uint32_t, 2>> pairs;
-  auto callback = [&](const Box& a, const Box& b) {
-    std::uint32_t t = a.info(), u = b.info();
-    if (t > u) std::swap(t, u);
-    if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) return;
-    pairs.push_back({t, u});
-  };
-  if (settings.skip_among.empty()) {
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
-  } else {
-    // Boxes of skipped meshes are only tested against the others, never among themselves: the
-    // broad phase does no work for obstacle-obstacle pairs.
-    std::vector<Box> tested, skipped;
-    for (const Box& box : boxes) {
-      (settings.skip_among[topo.tri_mesh[box.info()]] ? skipped : tested).push_back(box);
-    }
-    if (!tested.empty()) {
-      std::vector<Box> copy = tested;
-      CGAL::box_self_intersection_d(tested.begin(), tested.end(), callback);
-      if (settings.skipped_bvh != nullptr) {
-        std::vector<std::uint32_t> hits;
-        for (const Box& box : copy) {
-          const std::uint32_t t = box.info();
-          hits.clear();
-          settings.skipped_bvh->query(triangle_box(topo, t), hits);
-          for (std::uint32_t u : hits) {
-            if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
-            pairs.push_back({std::min(t, u), std::max(t, u)});
-          }
+  std::vector<std::uint32_t> tested;
+  for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
+    if (tested_mesh[topo.tri_mesh[t]]) tested.push_back(t);
+  blocks = (tested.size() + block_size - 1) / block_size;
+  run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> hits;
+    for (std::size_t block = begin; block < end; ++block) {
+      const std::size_t last = std::min(tested.size(), (block + 1) * block_size);
+      for (std::size_t i = block * block_size; i < last; ++i) {
+        const std::uint32_t t = tested[i];
+        const Box3 box = triangle_box(topo, t);
+        hits.clear();
+        tested_bvh.query(box, hits);
+        // Among tested triangles each pair is visited from its lower triangle.
+        hits.erase(std::remove_if(hits.begin(), hits.end(), [t](std::uint32_t u) { return u <= t; }),
+                   hits.end());
+        if (skipped_bvh != nullptr) skipped_bvh->query(box, hits);
+        std::sort(hits.begin(), hits.end());
+        for (std::uint32_t u : hits) {
+          if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
+          visit(block, t, u);
         }
-      } else if (!skipped.empty()) {
-        CGAL::box_intersection_d(copy.begin(), copy.end(), skipped.begin(), skipped.end(), callback);
       }
     }
-  }
+  });
+}
+
+constexpr std::size_t kBlock = 1024;
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& topo,
+                                                          const DetectSettings& settings) {
+  std::size_t blocks = 0;
+  std::vector<std::vector<std::array<std::uint32_t, 2>>> found((topo.tris.size() + kBlock - 1) / kBlock + 1);
+  for_each_candidate(topo, settings, kBlock, blocks, [&](std::size_t block, std::uint32_t t, std::uint32_t u) {
+    found[block].push_back({std::min(t, u), std::max(t, u)});
+  });
+  std::vector<std::array<std::uint32_t, 2>> pairs;
+  for (auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
   std::sort(pairs.begin(), pairs.end());
   return pairs;
 }
 
 CrossingSet detect_crossings(const SceneTopology& topo, const DetectSettings& settings) {
-  const std::vector<std::array<std::uint32_t, 2>> pairs = candidate_pairs(topo, settings);
-  constexpr std::size_t kBlock = 4096;
-  const std::size_t blocks = (pairs.size() + kBlock - 1) / kBlock;
-  std::vector<std::vector<RawCrossing>> found(blocks);
-  run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t block = begin; block < end; ++block) {
-      const std::size_t last = std::min(pairs.size(), (block + 1) * kBlock);
-      for (std::size_t i = block * kBlock; i < last; ++i) {
-        test_owned_edges(topo, pairs[i][0], pairs[i][1], found[block]);
-        test_owned_edges(topo, pairs[i][1], pairs[i][0], found[block]);
-      }
-    }
+  std::size_t blocks = 0;
+  std::vector<std::vector<RawCrossing>> found((topo.tris.size() + kBlock - 1) / kBlock + 1);
+  for_each_candidate(topo, settings, kBlock, blocks, [&](std::size_t block, std::uint32_t t, std::uint32_t u) {
+    test_owned_edges(topo, t, u, found[block]);
+    test_owned_edges(topo, u, t, found[block]);
   });
   CrossingSet set;
   for (auto& block : found) set.items.insert(set.items.end(), block.begin(), block.end());

@@ -43,7 +43,7 @@ bool edge_crosses_triangle(const std::vector<Vec3>& points, std::uint32_t p, std
 Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c);
 
 // Candidate triangle pairs (t < u) whose closed bounding boxes overlap and that share no edge,
-// sorted.
+// sorted. The broad phase is a bounding-volume hierarchy (TriangleBvh) queried per triangle.
 std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& topology,
                                                           const DetectSettings& settings);
 

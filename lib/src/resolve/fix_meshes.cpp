@@ -53,9 +53,11 @@ struct MeshTree {
   Tree tree;
 };
 
-std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo, std::uint32_t m) {
+std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo, std::uint32_t component) {
   auto out = std::make_unique<MeshTree>();
+  const std::uint32_t m = topo.component_mesh[component];
   for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) {
+    if (topo.tri_component(t) != component) continue;
     const auto& tri = topo.tris[t];
     auto p = [&](int k) {
       const Vec3& v = topo.points[tri[k]];
@@ -130,8 +132,8 @@ class Solver {
       const bool obstacle = meshes_[m].role == Role::kObstacle;
       settings_.skip_among.push_back(obstacle);
       region_settings_.obstacle.push_back(obstacle);
-      region_settings_.orientation.push_back(closed_orientation(topo_, m));
     }
+    region_settings_.orientation = closed_orientations(topo_);
     moved_.assign(nv, 0);
     start_points_ = topo_.points;
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, settings_.skip_among);
@@ -202,16 +204,20 @@ class Solver {
     const RegionAnalysis analysis = analyse_regions(topo_, set, traced, region_settings_);
     Moves moves(topo_.points.size());
 
-    // Which illegal sets move: movable meshes only; between two movable meshes, the side with the
-    // smaller illegal area (the other keeps its shape).
+    // Which illegal sets move: movable surfaces only; between two movable surfaces, the side with
+    // the smaller illegal area (the other keeps its shape).
+    auto movable = [&](std::uint32_t component) {
+      return meshes_[topo_.component_mesh[component]].role == Role::kMovable;
+    };
     std::vector<const IllegalSet*> moving;
     for (const IllegalSet& s : analysis.illegal) {
-      // Self sets have no other surface to move across: their labels steer the crossing rule.
-      if (meshes_[s.mesh].role != Role::kMovable || s.mesh == s.partner) continue;
+      // A component against itself has no other surface to move across: its labels steer the
+      // crossing rule.
+      if (!movable(s.component) || s.component == s.partner) continue;
       bool smaller = true;
       for (const IllegalSet& o : analysis.illegal) {
-        if (o.mesh == s.partner && o.partner == s.mesh && meshes_[o.mesh].role == Role::kMovable &&
-            (o.area < s.area || (o.area == s.area && o.mesh < s.mesh)))
+        if (o.component == s.partner && o.partner == s.component && movable(o.component) &&
+            (o.area < s.area || (o.area == s.area && o.component < s.component)))
           smaller = false;
       }
       if (!smaller) continue;
@@ -261,16 +267,17 @@ class Solver {
   //  - along the part's own normal to where that ray leaves the partner (a sheet cut through the
   //    middle of a closed body bulges over it instead of being squeezed sideways).
   void move_regions(const IllegalSet& set, const MeshTree& tree, Moves& moves) {
-    const double clearance = options_.clearance * mean_edge_[set.mesh];
+    const std::uint32_t mesh = topo_.component_mesh[set.component];
+    const double clearance = options_.clearance * mean_edge_[mesh];
     const int orientation = region_settings_.orientation[set.partner];
-    const std::uint32_t base = topo_.mesh_vertex_begin[set.mesh];
-    const std::uint32_t end = topo_.mesh_vertex_begin[set.mesh + 1];
+    const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
+    const std::uint32_t end = topo_.mesh_vertex_begin[mesh + 1];
     std::vector<std::uint8_t> member(end - base, 0);
     for (std::uint32_t v : set.vertices) member[v - base] = 1;
 
     // Vertex normals of the mesh (area weighted).
     std::vector<Vec3> normal(end - base, Vec3{0, 0, 0});
-    for (std::uint32_t t = topo_.mesh_tri_begin[set.mesh]; t < topo_.mesh_tri_begin[set.mesh + 1]; ++t) {
+    for (std::uint32_t t = topo_.mesh_tri_begin[mesh]; t < topo_.mesh_tri_begin[mesh + 1]; ++t) {
       const auto& tri = topo_.tris[t];
       bool touches = false;
       for (std::uint32_t v : tri) touches = touches || member[v - base];
@@ -391,12 +398,12 @@ class Solver {
     return score;
   }
 
-  // Label of welded vertex v of mesh `m` with respect to `partner` (-1 undecided).
-  int label(const RegionAnalysis& analysis, std::uint32_t m, std::uint32_t partner,
-            std::uint32_t v) const {
-    auto it = analysis.labels.find({m, partner});
+  // Label of welded vertex v with respect to component `partner` (-1 undecided).
+  int label(const RegionAnalysis& analysis, std::uint32_t v, std::uint32_t partner) const {
+    const std::uint32_t component = topo_.vertex_component[v];
+    auto it = analysis.labels.find({component, partner});
     if (it == analysis.labels.end()) return -1;
-    return it->second[v - topo_.mesh_vertex_begin[m]];
+    return it->second[v - topo_.mesh_vertex_begin[topo_.component_mesh[component]]];
   }
 
   void crossing_moves(const CrossingSet& set, const TracedContour& t, const RegionAnalysis& analysis,
@@ -425,12 +432,14 @@ class Solver {
 
       Vec3 d{0, 0, 0};
       bool face_side = false;  // the face's mesh holds the labels: it moves along +d
-      const int la = label(analysis, p_mesh, q_mesh, a);
-      const int lb = label(analysis, p_mesh, q_mesh, b);
+      const std::uint32_t p_component = topo_.vertex_component[a];
+      const std::uint32_t q_component = topo_.tri_component(x.face);
+      const int la = label(analysis, a, q_component);
+      const int lb = label(analysis, b, q_component);
       int f_legal = 0, f_illegal = 0;
       Vec3 f_legal_sum{0, 0, 0};
       for (std::uint32_t v : f) {
-        const int l = label(analysis, q_mesh, p_mesh, v);
+        const int l = label(analysis, v, p_component);
         if (l == 0) {
           ++f_legal;
           f_legal_sum = add(f_legal_sum, topo_.points[v]);
@@ -438,7 +447,7 @@ class Solver {
         if (l == 1) ++f_illegal;
       }
       const Vec3 nf = face_normal(topo_, x.face);
-      const int q_orientation = region_settings_.orientation[q_mesh];
+      const int q_orientation = region_settings_.orientation[q_component];
       if (la >= 0 && lb >= 0 && la != lb) {
         // e has a legal endpoint: n_r is f's normal turned toward it (Eq. 1).
         const std::uint32_t legal = la == 0 ? a : b;

@@ -18,11 +18,17 @@ double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
 
 }  // namespace
 
-int closed_orientation(const SceneTopology& topo, std::uint32_t m) {
-  // Every edge of the mesh must have two faces that traverse it in opposite directions.
+std::vector<int> closed_orientations(const SceneTopology& topo) {
+  const std::size_t n = topo.component_mesh.size();
+  // Every edge must have two faces that traverse it in opposite directions.
+  std::vector<std::uint8_t> closed(n, 1);
   for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
-    if (topo.edge_mesh(e) != m) continue;
-    if (topo.edge_face_count(e) != 2) return 0;
+    const std::uint32_t c = topo.vertex_component[topo.edges[e][0]];
+    if (!closed[c]) continue;
+    if (topo.edge_face_count(e) != 2) {
+      closed[c] = 0;
+      continue;
+    }
     int direction = 0;
     for (std::uint32_t i = topo.edge_face_begin[e]; i < topo.edge_face_begin[e + 1]; ++i) {
       const auto& tri = topo.tris[topo.edge_faces[i]];
@@ -31,33 +37,43 @@ int closed_orientation(const SceneTopology& topo, std::uint32_t m) {
         if (tri[k] == topo.edges[e][1] && tri[(k + 1) % 3] == topo.edges[e][0]) --direction;
       }
     }
-    if (direction != 0) return 0;
+    if (direction != 0) closed[c] = 0;
   }
-  double volume = 0.0;
-  bool any = false;
-  for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) {
+  std::vector<double> volume(n, 0.0);
+  std::vector<std::uint8_t> any(n, 0);
+  for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
     const Vec3& a = topo.points[topo.tris[t][0]];
     const Vec3& b = topo.points[topo.tris[t][1]];
     const Vec3& c = topo.points[topo.tris[t][2]];
-    volume += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-              a[2] * (b[0] * c[1] - b[1] * c[0]);
-    any = true;
+    const std::uint32_t k = topo.tri_component(t);
+    volume[k] += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+                 a[2] * (b[0] * c[1] - b[1] * c[0]);
+    any[k] = 1;
   }
-  if (!any || volume == 0.0) return 0;
-  return volume > 0.0 ? 1 : -1;
+  std::vector<int> out(n, 0);
+  for (std::size_t c = 0; c < n; ++c)
+    if (closed[c] && any[c] && volume[c] != 0.0) out[c] = volume[c] > 0.0 ? 1 : -1;
+  return out;
+}
+
+std::uint32_t track_component(const SceneTopology& topo, const CrossingSet& set,
+                              const TracedContour& traced, int k) {
+  // The first crossing tells: its edge lies on track edge_track[0], its face on the other.
+  const RawCrossing& x = set.items[traced.contour.crossings.front()];
+  return traced.edge_track.front() == k ? topo.vertex_component[topo.edges[x.edge][0]]
+                                        : topo.tri_component(x.face);
 }
 
 RegionAnalysis analyse_regions(const SceneTopology& topo, const CrossingSet& set,
                                const std::vector<TracedContour>& contours,
                                const RegionSettings& settings) {
   RegionAnalysis out;
-  // Contours grouped by the (ordered) pair of meshes they join.
+  // Contours grouped by the (ordered) pair of components they join.
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> groups;
   for (std::uint32_t k = 0; k < contours.size(); ++k) {
-    const Contour& c = contours[k].contour;
-    const std::uint32_t a = std::min(c.tracks[0].mesh, c.tracks[1].mesh);
-    const std::uint32_t b = std::max(c.tracks[0].mesh, c.tracks[1].mesh);
-    groups[{a, b}].push_back(k);
+    const std::uint32_t c0 = track_component(topo, set, contours[k], 0);
+    const std::uint32_t c1 = track_component(topo, set, contours[k], 1);
+    groups[{std::min(c0, c1), std::max(c0, c1)}].push_back(k);
   }
 
   std::vector<double> vertex_area(topo.points.size(), 0.0);
@@ -69,17 +85,19 @@ RegionAnalysis analyse_regions(const SceneTopology& topo, const CrossingSet& set
   std::vector<std::uint8_t> cut(topo.edges.size(), 0);
   std::vector<std::uint32_t> region;
   for (const auto& [key, members] : groups) {
-    // A self-intersecting mesh is its own partner: one side, cut by both tracks of its contours.
+    // A self-intersecting component is its own partner: one side, cut by both tracks.
     for (int side = 0; side < (key.first == key.second ? 1 : 2); ++side) {
-      const std::uint32_t mesh = side == 0 ? key.first : key.second;
+      const std::uint32_t component = side == 0 ? key.first : key.second;
       const std::uint32_t partner = side == 0 ? key.second : key.first;
-      // Edges of `mesh` crossed an odd number of times by all contours of the group together.
+      const std::uint32_t mesh = topo.component_mesh[component];
+      const std::uint32_t partner_mesh = topo.component_mesh[partner];
+      // Edges of `component` crossed an odd number of times by all contours of the group together.
       std::vector<std::uint32_t> crossed;
       for (std::uint32_t k : members) {
         const TracedContour& traced = contours[k];
         for (std::size_t i = 0; i < traced.contour.crossings.size(); ++i) {
           const std::uint32_t edge = set.items[traced.contour.crossings[i]].edge;
-          if (topo.edge_mesh(edge) == mesh) crossed.push_back(edge);
+          if (topo.vertex_component[topo.edges[edge][0]] == component) crossed.push_back(edge);
         }
       }
       std::sort(crossed.begin(), crossed.end());
@@ -102,8 +120,8 @@ RegionAnalysis analyse_regions(const SceneTopology& topo, const CrossingSet& set
       std::vector<std::int8_t> region_label(region_count, -1);
       RegionRule rule = RegionRule::kArea;
 
-      const bool by_inside = mesh != partner && settings.outside_closed_obstacles && settings.obstacle[partner] &&
-                             settings.orientation[partner] != 0;
+      const bool by_inside = component != partner && settings.outside_closed_obstacles &&
+                             settings.obstacle[partner_mesh] && settings.orientation[partner] != 0;
       if (by_inside) {
         // Each cleanly cut edge has one endpoint inside the closed obstacle: the one on the inner
         // side of the face it crosses. Regions vote with their endpoints.
@@ -114,7 +132,7 @@ RegionAnalysis analyse_regions(const SceneTopology& topo, const CrossingSet& set
           auto it = std::lower_bound(set.items.begin(), set.items.end(), e,
                                      [](const RawCrossing& c, std::uint32_t x) { return c.edge < x; });
           for (; it != set.items.end() && it->edge == e; ++it) {
-            if (topo.tri_mesh[it->face] == partner) {
+            if (topo.tri_component(it->face) == partner) {
               face = it->face;
               break;
             }
@@ -175,13 +193,14 @@ RegionAnalysis analyse_regions(const SceneTopology& topo, const CrossingSet& set
         }
       }
 
-      std::vector<std::int8_t>& labels = out.labels[{mesh, partner}];
+      std::vector<std::int8_t>& labels = out.labels[{component, partner}];
       labels.assign(end - base, -1);
       IllegalSet illegal;
-      illegal.mesh = mesh;
+      illegal.component = component;
       illegal.partner = partner;
       illegal.rule = rule;
       for (std::uint32_t v = base; v < end; ++v) {
+        if (topo.vertex_component[v] != component) continue;
         labels[v - base] = region_label[region[v - base]];
         if (labels[v - base] == 1) {
           illegal.vertices.push_back(v);
@@ -193,7 +212,7 @@ RegionAnalysis analyse_regions(const SceneTopology& topo, const CrossingSet& set
     }
   }
   std::sort(out.illegal.begin(), out.illegal.end(), [](const IllegalSet& a, const IllegalSet& b) {
-    return a.mesh != b.mesh ? a.mesh < b.mesh : a.partner < b.partner;
+    return a.component != b.component ? a.component < b.component : a.partner < b.partner;
   });
   return out;
 }

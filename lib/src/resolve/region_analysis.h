@@ -1,5 +1,7 @@
-// Global analysis (DESIGN §4): which side of each mesh, cut by all contours it shares with one
-// other mesh, is illegal.
+// Global analysis (DESIGN §4): which side of each surface, cut by all contours it shares with one
+// other surface, is illegal. The unit is the connected component (a shirt and trousers stored in
+// one file are two surfaces that can be layered), so "self" contours between two components of one
+// mesh are analysed like contours between two meshes.
 #pragma once
 
 #include <cstdint>
@@ -15,9 +17,9 @@ namespace untangle {
 
 enum class RegionRule : std::uint8_t { kInside, kArea };
 
-// The illegal vertices of mesh `mesh` with respect to mesh `partner`.
+// The illegal vertices of component `component` with respect to component `partner`.
 struct IllegalSet {
-  std::uint32_t mesh = 0;
+  std::uint32_t component = 0;
   std::uint32_t partner = 0;
   RegionRule rule = RegionRule::kArea;
   std::vector<std::uint32_t> vertices;  // welded ids, ascending
@@ -25,29 +27,33 @@ struct IllegalSet {
   std::size_t regions = 0;
 };
 
-// Per (mesh, partner): label of each welded vertex of mesh (index v - mesh_vertex_begin):
-// 1 illegal, 0 legal, -1 undecided (its component is not cut, or the cut does not 2-colour).
+// Per (component, partner): label of each welded vertex of the component's mesh (index
+// v - mesh_vertex_begin): 1 illegal, 0 legal, -1 undecided (not cut, or the cut does not 2-colour).
 using VertexLabels = std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::int8_t>>;
 
 struct RegionAnalysis {
-  std::vector<IllegalSet> illegal;  // ordered by (mesh, partner)
+  std::vector<IllegalSet> illegal;  // ordered by (component, partner)
   VertexLabels labels;
 };
 
 struct RegionSettings {
   bool outside_closed_obstacles = true;
-  std::vector<bool> obstacle;       // per mesh
-  std::vector<int> orientation;     // per mesh: +1 closed and outward, -1 inward, 0 not closed
+  std::vector<bool> obstacle;    // per mesh
+  std::vector<int> orientation;  // per component: +1 closed and outward, -1 inward, 0 not closed
 };
 
-// Analyses every pair of meshes that share contours; a mesh that intersects itself is analysed
-// against itself (cut by both tracks of its self contours, always by the area rule).
+// The component holding track k of a contour.
+std::uint32_t track_component(const SceneTopology& topology, const CrossingSet& crossings,
+                              const TracedContour& contour, int k);
+
+// Analyses every pair of components that share contours; a component that intersects itself is
+// analysed against itself (cut by both tracks, always by the area rule).
 RegionAnalysis analyse_regions(const SceneTopology& topology, const CrossingSet& crossings,
                                const std::vector<TracedContour>& contours,
                                const RegionSettings& settings);
 
-// +1 if mesh `m` is closed, consistently oriented and encloses positive volume; -1 if closed and
-// consistently oriented inward; 0 otherwise.
-int closed_orientation(const SceneTopology& topology, std::uint32_t m);
+// Per component: +1 if closed, consistently oriented and enclosing positive volume; -1 if closed
+// and consistently oriented inward; 0 otherwise.
+std::vector<int> closed_orientations(const SceneTopology& topology);
 
 }  // namespace untangle

@@ -121,6 +121,29 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
     topo.vertex_edges[fill[topo.edges[e][0]]++] = e;
     topo.vertex_edges[fill[topo.edges[e][1]]++] = e;
   }
+  // Components: union-find over triangle corners, then numbered by lowest vertex.
+  std::vector<std::uint32_t> parent(topo.points.size());
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (const auto& tri : topo.tris) {
+    for (int k = 1; k < 3; ++k) {
+      const std::uint32_t a = find(tri[0]), b = find(tri[k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  topo.vertex_component.assign(topo.points.size(), kNone);
+  std::vector<std::uint32_t> number(topo.points.size(), kNone);
+  for (std::uint32_t v = 0; v < topo.points.size(); ++v) {
+    const std::uint32_t root = find(v);
+    if (number[root] == kNone) {
+      number[root] = static_cast<std::uint32_t>(topo.component_mesh.size());
+      topo.component_mesh.push_back(topo.vertex_mesh[v]);
+    }
+    topo.vertex_component[v] = number[root];
+  }
   return topo;
 }
 

@@ -37,6 +37,12 @@ struct SceneTopology {
   std::vector<std::uint32_t> edge_face_begin;  // size edges+1
   std::vector<std::uint32_t> edge_faces;
 
+  // edge-connected components (a two-piece garment in one file is two components): global ids,
+  // numbered in order of their lowest vertex; an isolated vertex is a component of its own
+  std::vector<std::uint32_t> vertex_component;
+  std::vector<std::uint32_t> component_mesh;
+  std::uint32_t tri_component(std::uint32_t t) const { return vertex_component[tris[t][0]]; }
+
   // vertex -> incident edges, CSR
   std::vector<std::uint32_t> vertex_edge_begin;  // size points+1
   std::vector<std::uint32_t> vertex_edges;
