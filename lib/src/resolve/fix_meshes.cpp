@@ -53,11 +53,9 @@ struct MeshTree {
   Tree tree;
 };
 
-std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo, std::uint32_t component) {
+std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo, const std::vector<std::uint32_t>& tris) {
   auto out = std::make_unique<MeshTree>();
-  const std::uint32_t m = topo.component_mesh[component];
-  for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) {
-    if (topo.tri_component(t) != component) continue;
+  for (std::uint32_t t : tris) {
     const auto& tri = topo.tris[t];
     auto p = [&](int k) {
       const Vec3& v = topo.points[tri[k]];
@@ -66,6 +64,7 @@ std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo, std::uint32_t co
     out->triangles.emplace_back(p(0), p(1), p(2));
     out->ids.push_back(t);
   }
+  if (out->triangles.empty()) return out;
   out->tree.insert(out->triangles.begin(), out->triangles.end());
   out->tree.accelerate_distance_queries();
   return out;
@@ -234,10 +233,18 @@ class Solver {
       std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;
       for (const IllegalSet* s : moving) {
         auto& tree = trees[s->partner];
-        if (!tree) tree = build_tree(topo_, s->partner);
+        if (!tree) {
+          std::vector<std::uint32_t> tris;
+          const std::uint32_t m = topo_.component_mesh[s->partner];
+          for (std::uint32_t t = topo_.mesh_tri_begin[m]; t < topo_.mesh_tri_begin[m + 1]; ++t)
+            if (topo_.tri_component(t) == s->partner) tris.push_back(t);
+          tree = build_tree(topo_, tris);
+        }
         for (std::uint32_t v : s->vertices) in_moving_set[v] = 1;
-        move_regions(*s, *tree, moves);
+        move_regions(topo_.component_mesh[s->component], region_settings_.orientation[s->partner],
+                     s->vertices, *tree, moves);
       }
+      for (const TracedContour& t : traced) self_contour_move(set, t, analysis, in_moving_set, moves);
     }
 
     // Per-crossing rule: every crossing (paper method), or those of contours that no moving
@@ -259,6 +266,95 @@ class Solver {
     return apply(moves);
   }
 
+  // A contour of a component with itself (a fold through the cloth, a hem's inner layer pushed
+  // through its outer layer): the illegal side next to each track, by the component's own labels;
+  // the smaller one moves across the sheet of the other track (its crossed faces and two rings
+  // around them, the moving side's own triangles left out).
+  void self_contour_move(const CrossingSet& set, const TracedContour& traced,
+                         const RegionAnalysis& analysis, std::vector<std::uint8_t>& in_moving_set,
+                         Moves& moves) {
+    const std::uint32_t component = track_component(topo_, set, traced, 0);
+    if (component != track_component(topo_, set, traced, 1)) return;
+    const std::uint32_t mesh = topo_.component_mesh[component];
+    if (meshes_[mesh].role != Role::kMovable) return;
+    const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
+    const std::uint32_t end = topo_.mesh_vertex_begin[mesh + 1];
+    auto labels = analysis.labels.find({component, component});
+    if (labels == analysis.labels.end()) return;
+    const std::vector<std::int8_t>& illegal = labels->second;
+    const Contour& c = traced.contour;
+
+    std::vector<std::uint32_t> side[2];
+    double area[2] = {0.0, 0.0};
+    std::vector<std::uint8_t> seen(end - base, 0);
+    for (int k = 0; k < 2; ++k) {
+      for (std::size_t i = 0; i < c.crossings.size(); ++i) {
+        if (traced.edge_track[i] != k) continue;
+        for (std::uint32_t v : topo_.edges[set.items[c.crossings[i]].edge]) {
+          if (illegal[v - base] != 1 || seen[v - base]) continue;
+          seen[v - base] = 1;
+          side[k].push_back(v);
+        }
+      }
+      for (std::size_t i = 0; i < side[k].size(); ++i) {
+        const std::uint32_t v = side[k][i];
+        for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+          const auto& e = topo_.edges[topo_.vertex_edges[j]];
+          const std::uint32_t w = e[0] == v ? e[1] : e[0];
+          if (illegal[w - base] == 1 && !seen[w - base]) {
+            seen[w - base] = 1;
+            side[k].push_back(w);
+          }
+        }
+      }
+      for (std::uint32_t v : side[k]) area[k] += vertex_edge_[v] * vertex_edge_[v];
+    }
+    int k = -1;
+    if (!side[0].empty() && (side[1].empty() || area[0] <= area[1])) k = 0;
+    else if (!side[1].empty()) k = 1;
+    if (k < 0) return;
+    std::sort(side[k].begin(), side[k].end());
+    std::vector<std::uint8_t> moving(end - base, 0);
+    for (std::uint32_t v : side[k]) moving[v - base] = 1;
+
+    // The other sheet: faces of track 1-k at the crossings, grown by two rings.
+    std::vector<std::uint8_t> in_sheet(end - base, 0);
+    std::vector<std::uint32_t> frontier;
+    auto add_vertex = [&](std::uint32_t v) {
+      if (!in_sheet[v - base] && !moving[v - base]) {
+        in_sheet[v - base] = 1;
+        frontier.push_back(v);
+      }
+    };
+    for (std::size_t i = 0; i < c.crossings.size(); ++i) {
+      const RawCrossing& x = set.items[c.crossings[i]];
+      if (traced.edge_track[i] == k) {
+        for (std::uint32_t v : topo_.tris[x.face]) add_vertex(v);
+      } else {
+        for (std::uint32_t v : topo_.edges[x.edge]) add_vertex(v);
+      }
+    }
+    for (int ring = 0; ring < 2; ++ring) {
+      const std::vector<std::uint32_t> current = frontier;
+      for (std::uint32_t v : current)
+        for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+          const auto& e = topo_.edges[topo_.vertex_edges[j]];
+          add_vertex(e[0] == v ? e[1] : e[0]);
+        }
+    }
+    std::vector<std::uint32_t> tris;
+    for (std::uint32_t t = topo_.mesh_tri_begin[mesh]; t < topo_.mesh_tri_begin[mesh + 1]; ++t) {
+      const auto& tri = topo_.tris[t];
+      if (in_sheet[tri[0] - base] && in_sheet[tri[1] - base] && in_sheet[tri[2] - base]) tris.push_back(t);
+    }
+    const std::unique_ptr<MeshTree> tree = build_tree(topo_, tris);
+    std::vector<std::uint32_t> still;
+    for (std::uint32_t v : side[k])
+      if (!moves.has_region[v]) still.push_back(v);  // a vertex moves once per iteration
+    for (std::uint32_t v : still) in_moving_set[v] = 1;
+    move_regions(mesh, 0, still, *tree, moves);
+  }
+
   // Moves every connected part of an illegal set across the partner surface. Three candidate
   // moves per part, and the one that strains the part's edges least wins:
   //  - to the closest point of the partner, plus the clearance (a thin layer stays thin);
@@ -266,14 +362,14 @@ class Solver {
   //    shape instead of collapsing onto the surface);
   //  - along the part's own normal to where that ray leaves the partner (a sheet cut through the
   //    middle of a closed body bulges over it instead of being squeezed sideways).
-  void move_regions(const IllegalSet& set, const MeshTree& tree, Moves& moves) {
-    const std::uint32_t mesh = topo_.component_mesh[set.component];
+  void move_regions(std::uint32_t mesh, int orientation, const std::vector<std::uint32_t>& vertices,
+                    const MeshTree& tree, Moves& moves) {
+    if (tree.triangles.empty()) return;
     const double clearance = options_.clearance * mean_edge_[mesh];
-    const int orientation = region_settings_.orientation[set.partner];
     const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
     const std::uint32_t end = topo_.mesh_vertex_begin[mesh + 1];
     std::vector<std::uint8_t> member(end - base, 0);
-    for (std::uint32_t v : set.vertices) member[v - base] = 1;
+    for (std::uint32_t v : vertices) member[v - base] = 1;
 
     // Vertex normals of the mesh (area weighted).
     std::vector<Vec3> normal(end - base, Vec3{0, 0, 0});
@@ -289,7 +385,7 @@ class Solver {
 
     // Connected parts of the set.
     std::vector<std::uint8_t> seen(end - base, 0);
-    for (std::uint32_t seed : set.vertices) {
+    for (std::uint32_t seed : vertices) {
       if (seen[seed - base]) continue;
       std::vector<std::uint32_t> part{seed};
       seen[seed - base] = 1;
