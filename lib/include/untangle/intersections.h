@@ -83,10 +83,14 @@ struct DetectOptions {
   // Leave out pairs of triangles that both belong to obstacles (obstacles never move, so `fix`
   // neither needs nor can change what happens among them).
   bool skip_obstacle_pairs = false;
+  // Whether each mesh is also tested against itself (self-intersections). Off: only pairs of
+  // different meshes, the job of CGAL's surface_intersection.
+  bool self_intersections = true;
 };
 
 struct DetectTimings {
   double detect_ms = 0.0;    // topology, broad and narrow phase
+  double topology_ms = 0.0;  // of which welding and edge topology (the input preparation)
   double contours_ms = 0.0;  // linking, classification, flood fills
 };
 

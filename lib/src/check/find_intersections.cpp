@@ -25,8 +25,10 @@ Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOp
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const SceneTopology topo = build_topology(meshes);
+  const auto t_topology = Clock::now();
   DetectSettings settings;
   settings.threads = options.threads;
+  settings.self_pairs = options.self_intersections;
   if (options.skip_obstacle_pairs) {
     for (const Mesh& m : meshes) settings.skip_among.push_back(m.role == Role::kObstacle);
   }
@@ -37,6 +39,7 @@ Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOp
   const auto t2 = Clock::now();
   if (timings != nullptr) {
     timings->detect_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    timings->topology_ms = std::chrono::duration<double, std::milli>(t_topology - t0).count();
     timings->contours_ms = std::chrono::duration<double, std::milli>(t2 - t1).count();
   }
   return result;

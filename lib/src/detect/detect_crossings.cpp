@@ -10,6 +10,9 @@
 
 #include "detect/orientation.h"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <cmath>
+
 namespace untangle {
 namespace {
 
@@ -42,6 +45,78 @@ void test_owned_edges(const SceneTopology& topo, std::uint32_t t, std::uint32_t 
                                     topo.points[face[1]], topo.points[face[2]])});
     }
   }
+}
+
+// Exact filtered orientation without perturbation (0 when exactly coplanar).
+int orient_exact(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t b, std::uint32_t c,
+                 std::uint32_t d) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  auto p = [&](std::uint32_t i) { return K::Point_3(points[i][0], points[i][1], points[i][2]); };
+  return static_cast<int>(CGAL::orientation(p(a), p(b), p(c), p(d)));
+}
+
+int orient_2d(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
+  return static_cast<int>(CGAL::orientation(K::Point_2(a[i], a[j]), K::Point_2(b[i], b[j]),
+                                            K::Point_2(c[i], c[j])));
+}
+
+// Whether triangles t and u (sharing at most one vertex) provably yield no crossing under every
+// infinitesimal perturbation, so the exact tests can be skipped: the non-shared corners of one lie
+// strictly on one side of the other's plane, or the two are coplanar and a line through an edge of
+// one strictly separates them (with a shared vertex: a line through it and an edge). Flat sheets
+// make most neighbouring pairs coplanar, where the perturbed tests would otherwise do all the work.
+bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
+  const auto& a = topo.tris[t];
+  const auto& b = topo.tris[u];
+  const std::vector<Vec3>& P = topo.points;
+  auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const std::array<std::uint32_t, 3>& other,
+                      bool& coplanar) {
+    int pos = 0, neg = 0, zero = 0;
+    for (std::uint32_t v : other) {
+      if (contains(plane, v)) continue;
+      const int o = orient_exact(P, plane[0], plane[1], plane[2], v);
+      pos += o > 0;
+      neg += o < 0;
+      zero += o == 0;
+    }
+    coplanar = pos == 0 && neg == 0;
+    return zero == 0 && (pos == 0 || neg == 0);
+  };
+  bool coplanar_b = false, coplanar_a = false;
+  if (one_side(a, b, coplanar_b)) return true;
+  if (one_side(b, a, coplanar_a)) return true;
+  if (!coplanar_b) return false;
+  // Coplanar: project along the dominant axis of t's normal (skip degenerate projections).
+  const Vec3 &p0 = P[a[0]], &p1 = P[a[1]], &p2 = P[a[2]];
+  const Vec3 e1{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+  const Vec3 e2{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+  const Vec3 n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  int drop = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(n[k]) > std::abs(n[drop])) drop = k;
+  if (orient_2d(p0, p1, p2, drop) == 0 || orient_2d(P[b[0]], P[b[1]], P[b[2]], drop) == 0) return false;
+  // A line through two corners of one triangle separates when its third corner lies strictly on
+  // one side and every corner of the other triangle not on the line lies strictly on the other,
+  // with at most the shared vertex on the line.
+  auto separates = [&](const std::array<std::uint32_t, 3>& x, const std::array<std::uint32_t, 3>& y) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t i = x[k], j = x[(k + 1) % 3], w = x[(k + 2) % 3];
+      const int own = orient_2d(P[i], P[j], P[w], drop);
+      bool ok = true;
+      for (std::uint32_t v : y) {
+        if (v == i || v == j) continue;
+        if (orient_2d(P[i], P[j], P[v], drop) != -own) {
+          ok = false;
+          break;
+        }
+      }
+      if (ok) return true;
+    }
+    return false;
+  };
+  return separates(a, b) || separates(b, a);
 }
 
 template <class Body>
@@ -102,7 +177,39 @@ namespace {
 // block index so results can be kept per block and joined in order (deterministic).
 template <class Visit>
 void for_each_candidate(const SceneTopology& topo, const DetectSettings& settings,
-                        std::size_t block_size, std::size_t& blocks, const Visit& visit) {
+                        std::size_t block_size, std::size_t& blocks, bool prune, const Visit& visit) {
+  if (!settings.self_pairs) {
+    // Only pairs of different meshes: one hierarchy per mesh; a triangle queries the meshes after
+    // its own.
+    const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
+    std::vector<std::unique_ptr<TriangleBvh>> per_mesh(meshes);
+    for (std::size_t m = 0; m < meshes; ++m) {
+      std::vector<bool> only(meshes, false);
+      only[m] = true;
+      per_mesh[m] = std::make_unique<TriangleBvh>(topo, only);
+    }
+    const std::size_t n = topo.tris.size();
+    blocks = (n + block_size - 1) / block_size;
+    run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
+      std::vector<std::uint32_t> hits;
+      for (std::size_t block = begin; block < end; ++block) {
+        for (std::uint32_t t = static_cast<std::uint32_t>(block * block_size);
+             t < std::min(n, (block + 1) * block_size); ++t) {
+          const std::uint32_t mt = topo.tri_mesh[t];
+          hits.clear();
+          const Box3 box = triangle_box(topo, t);
+          for (std::size_t m = mt + 1; m < meshes; ++m) {
+            if (!settings.skip_among.empty() && settings.skip_among[mt] && settings.skip_among[m]) continue;
+            per_mesh[m]->query(box, hits);
+          }
+          std::sort(hits.begin(), hits.end());
+          for (std::uint32_t u : hits)
+            if (!prune || !surely_apart(topo, t, u)) visit(block, t, u);
+        }
+      }
+    });
+    return;
+  }
   const bool skipping = !settings.skip_among.empty();
   std::vector<bool> tested_mesh(topo.mesh_tri_begin.size() - 1, true);
   if (skipping)
@@ -134,6 +241,7 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
         std::sort(hits.begin(), hits.end());
         for (std::uint32_t u : hits) {
           if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
+          if (prune && surely_apart(topo, t, u)) continue;
           visit(block, t, u);
         }
       }
@@ -149,7 +257,7 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
                                                           const DetectSettings& settings) {
   std::size_t blocks = 0;
   std::vector<std::vector<std::array<std::uint32_t, 2>>> found((topo.tris.size() + kBlock - 1) / kBlock + 1);
-  for_each_candidate(topo, settings, kBlock, blocks, [&](std::size_t block, std::uint32_t t, std::uint32_t u) {
+  for_each_candidate(topo, settings, kBlock, blocks, false, [&](std::size_t block, std::uint32_t t, std::uint32_t u) {
     found[block].push_back({std::min(t, u), std::max(t, u)});
   });
   std::vector<std::array<std::uint32_t, 2>> pairs;
@@ -161,7 +269,7 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
 CrossingSet detect_crossings(const SceneTopology& topo, const DetectSettings& settings) {
   std::size_t blocks = 0;
   std::vector<std::vector<RawCrossing>> found((topo.tris.size() + kBlock - 1) / kBlock + 1);
-  for_each_candidate(topo, settings, kBlock, blocks, [&](std::size_t block, std::uint32_t t, std::uint32_t u) {
+  for_each_candidate(topo, settings, kBlock, blocks, true, [&](std::size_t block, std::uint32_t t, std::uint32_t u) {
     test_owned_edges(topo, t, u, found[block]);
     test_owned_edges(topo, u, t, found[block]);
   });

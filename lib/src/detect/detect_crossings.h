@@ -32,6 +32,8 @@ struct DetectSettings {
   // Optional: a hierarchy over exactly the triangles of the skip_among meshes at their current
   // positions (they never move, so it is built once and reused every iteration).
   const TriangleBvh* skipped_bvh = nullptr;
+  // Whether pairs of triangles of the same mesh are tested (self-intersections).
+  bool self_pairs = true;
 };
 
 // Whether edge (p, q) passes through triangle (a, b, c) under the symbolic perturbation; ids are

@@ -21,26 +21,34 @@ Box3 triangle_box(const SceneTopology& topo, std::uint32_t t) {
 }
 
 TriangleBvh::TriangleBvh(const SceneTopology& topo, const std::vector<bool>& include) {
-  std::vector<Box3> boxes;
+  std::vector<Item> items;
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
     if (!include[topo.tri_mesh[t]]) continue;
-    triangles_.push_back(t);
-    boxes.push_back(triangle_box(topo, t));
+    Item item;
+    item.box = triangle_box(topo, t);
+    item.tri = t;
+    for (int a = 0; a < 3; ++a) item.centre[a] = item.box.lo[a] + item.box.hi[a];
+    items.push_back(item);
   }
-  if (triangles_.empty()) return;
-  nodes_.reserve(2 * triangles_.size() / 4 + 1);
-  build(0, static_cast<std::uint32_t>(triangles_.size()), boxes);
-  leaf_boxes_ = std::move(boxes);
+  if (items.empty()) return;
+  nodes_.reserve(items.size() / 2 + 1);
+  build(0, static_cast<std::uint32_t>(items.size()), items);
+  triangles_.resize(items.size());
+  leaf_boxes_.resize(items.size());
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    triangles_[i] = items[i].tri;
+    leaf_boxes_[i] = items[i].box;
+  }
 }
 
-std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count, std::vector<Box3>& boxes) {
+std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count, std::vector<Item>& items) {
   const std::uint32_t index = static_cast<std::uint32_t>(nodes_.size());
   nodes_.emplace_back();
-  Box3 box = boxes[first];
+  Box3 box = items[first].box;
   for (std::uint32_t i = first + 1; i < first + count; ++i)
     for (int a = 0; a < 3; ++a) {
-      box.lo[a] = std::min(box.lo[a], boxes[i].lo[a]);
-      box.hi[a] = std::max(box.hi[a], boxes[i].hi[a]);
+      box.lo[a] = std::min(box.lo[a], items[i].box.lo[a]);
+      box.hi[a] = std::max(box.hi[a], items[i].box.hi[a]);
     }
   nodes_[index].box = box;
   if (count <= 4) {
@@ -52,26 +60,14 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count, std::
   for (int a = 1; a < 3; ++a)
     if (box.hi[a] - box.lo[a] > box.hi[axis] - box.lo[axis]) axis = a;
   // Split at the median centre along the longest axis; ties broken by triangle id (deterministic).
-  std::vector<std::uint32_t> order(count);
-  for (std::uint32_t i = 0; i < count; ++i) order[i] = first + i;
   const std::uint32_t half = count / 2;
-  std::nth_element(order.begin(), order.begin() + half, order.end(), [&](std::uint32_t x, std::uint32_t y) {
-    const double cx = boxes[x].lo[axis] + boxes[x].hi[axis];
-    const double cy = boxes[y].lo[axis] + boxes[y].hi[axis];
-    return cx != cy ? cx < cy : triangles_[x] < triangles_[y];
-  });
-  std::vector<std::uint32_t> tris(count);
-  std::vector<Box3> bs(count);
-  for (std::uint32_t i = 0; i < count; ++i) {
-    tris[i] = triangles_[order[i]];
-    bs[i] = boxes[order[i]];
-  }
-  for (std::uint32_t i = 0; i < count; ++i) {
-    triangles_[first + i] = tris[i];
-    boxes[first + i] = bs[i];
-  }
-  const std::uint32_t left = build(first, half, boxes);
-  const std::uint32_t right = build(first + half, count - half, boxes);
+  std::nth_element(items.begin() + first, items.begin() + first + half, items.begin() + first + count,
+                   [axis](const Item& x, const Item& y) {
+                     return x.centre[axis] != y.centre[axis] ? x.centre[axis] < y.centre[axis]
+                                                             : x.tri < y.tri;
+                   });
+  const std::uint32_t left = build(first, half, items);
+  const std::uint32_t right = build(first + half, count - half, items);
   nodes_[index].left = left;
   nodes_[index].right = right;
   return index;

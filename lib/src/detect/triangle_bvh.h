@@ -36,7 +36,12 @@ class TriangleBvh {
     std::uint32_t first = 0, count = 0;  // leaf: range in triangles_
     std::uint32_t left = 0, right = 0;   // inner: children
   };
-  std::uint32_t build(std::uint32_t first, std::uint32_t count, std::vector<Box3>& boxes);
+  struct Item {
+    Box3 box;
+    std::array<double, 3> centre{};  // twice the box centre
+    std::uint32_t tri = 0;
+  };
+  std::uint32_t build(std::uint32_t first, std::uint32_t count, std::vector<Item>& items);
 
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> triangles_;

@@ -7,6 +7,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -245,6 +246,7 @@ class Solver {
                      s->vertices, *tree, moves);
       }
       for (const TracedContour& t : traced) self_contour_move(set, t, analysis, in_moving_set, moves);
+      separate_coincident_layers(set, traced, analysis, in_moving_set, moves);
     }
 
     // Per-crossing rule: every crossing (paper method), or those of contours that no moving
@@ -264,6 +266,81 @@ class Solver {
     }
 
     return apply(moves);
+  }
+
+  // Two components that cross but where neither side has an illegal region (a garment and an
+  // exact or nearly exact copy of it; sheets lying in one plane): the contours separate nothing, so
+  // the layers are told apart by index. The movable component with the higher index is laid on the
+  // positive side of the other (its own face normals) at the clearance, wherever it is closer than
+  // half an edge.
+  void separate_coincident_layers(const CrossingSet& set, const std::vector<TracedContour>& traced,
+                                  const RegionAnalysis& analysis,
+                                  std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
+    // Per pair of components: how many of their crossings join nearly parallel faces.
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<std::size_t, 2>> parallel;
+    for (const TracedContour& t : traced) {
+      const std::uint32_t a = track_component(topo_, set, t, 0);
+      const std::uint32_t b = track_component(topo_, set, t, 1);
+      if (a == b) continue;
+      auto& count = parallel[{std::min(a, b), std::max(a, b)}];
+      for (std::uint32_t ci : t.contour.crossings) {
+        const RawCrossing& x = set.items[ci];
+        const Vec3 nf = face_normal(topo_, x.face);
+        const Vec3 ne = face_normal(topo_, topo_.edge_faces[topo_.edge_face_begin[x.edge]]);
+        ++count[1];
+        if (std::abs(dot(nf, ne)) > 0.95) ++count[0];
+      }
+    }
+    for (const auto& [key, count] : parallel) {
+      const auto [a, b] = key;
+      if (2 * count[0] < count[1]) continue;  // surfaces crossing at an angle: not layers
+      bool decided = false;
+      for (const IllegalSet& s : analysis.illegal)
+        if ((s.component == a && s.partner == b) || (s.component == b && s.partner == a)) decided = true;
+      if (decided) continue;
+      const bool a_movable = meshes_[topo_.component_mesh[a]].role == Role::kMovable;
+      const bool b_movable = meshes_[topo_.component_mesh[b]].role == Role::kMovable;
+      if (!a_movable && !b_movable) continue;
+      const std::uint32_t mover = b_movable ? b : a;
+      const std::uint32_t other = mover == b ? a : b;
+      const std::uint32_t mesh = topo_.component_mesh[mover];
+      std::vector<std::uint32_t> tris;
+      const std::uint32_t om = topo_.component_mesh[other];
+      for (std::uint32_t t = topo_.mesh_tri_begin[om]; t < topo_.mesh_tri_begin[om + 1]; ++t)
+        if (topo_.tri_component(t) == other) tris.push_back(t);
+      const std::unique_ptr<MeshTree> tree = build_tree(topo_, tris);
+      if (tree->triangles.empty()) continue;
+      const double near = 0.5 * mean_edge_[mesh];
+      const double clearance = options_.clearance * mean_edge_[mesh];
+      // The side the near vertices mostly lie on is kept (layer order); an exact copy has no
+      // majority and goes to the positive side.
+      struct Near {
+        std::uint32_t v;
+        Vec3 c, n;
+        double side;
+      };
+      std::vector<Near> close;
+      long long vote = 0;
+      for (std::uint32_t v = topo_.mesh_vertex_begin[mesh]; v < topo_.mesh_vertex_begin[mesh + 1]; ++v) {
+        if (topo_.vertex_component[v] != mover) continue;
+        const Vec3& p = topo_.points[v];
+        const auto hit = tree->tree.closest_point_and_primitive(Kernel::Point_3(p[0], p[1], p[2]));
+        const Vec3 c{hit.first.x(), hit.first.y(), hit.first.z()};
+        if (norm(sub(p, c)) > near) continue;
+        const std::uint32_t face = tree->ids[static_cast<std::size_t>(hit.second - tree->triangles.begin())];
+        const Vec3 n = face_normal(topo_, face);
+        const double side = dot(sub(p, c), n);
+        vote += side > 0 ? 1 : side < 0 ? -1 : 0;
+        close.push_back({v, c, n, side});
+      }
+      const double sign = vote < 0 ? -1.0 : 1.0;
+      for (const Near& x : close) {
+        if (!free_[x.v] || moves.has_region[x.v] || sign * x.side >= clearance) continue;
+        moves.region[x.v] = sub(add(x.c, scale(x.n, sign * clearance)), topo_.points[x.v]);
+        moves.has_region[x.v] = 1;
+        in_moving_set[x.v] = 1;
+      }
+    }
   }
 
   // A contour of a component with itself (a fold through the cloth, a hem's inner layer pushed
@@ -416,8 +493,10 @@ class Solver {
         Vec3 dir = unit(to);
         if (norm(to) == 0.0) dir = scale(face_normal(topo_, face), orientation >= 0 ? 1.0 : -1.0);
         closest[i] = add(to, scale(dir, clearance));
-        mirror[i] = add(scale(to, 2.0), scale(dir, clearance));
         const Vec3 nv = unit(normal[part[i] - base]);
+        // A part mirrored through a flat partner may land in the plane of its own mesh (a flat
+        // strip folded onto itself): the clearance along its own normal keeps the fold open.
+        mirror[i] = add(add(scale(to, 2.0), scale(dir, clearance)), scale(nv, clearance));
         for (int sign : {1, -1}) {
           bool& ok = sign > 0 ? up_ok : down_ok;
           if (!ok) continue;
@@ -609,14 +688,17 @@ class Solver {
       delta[v] = d;
       active[v] = 1;
     }
-    // Triangles that would flip (or turn by more than ~85 degrees) halve their corners' moves.
+    // Triangles that would flip (or turn by more than ~85 degrees) halve their corners' moves;
+    // every round first finds all such triangles, then halves each corner once, so the result does
+    // not depend on the order of triangles. Triangles touched by a region move are left alone: a
+    // region's move was chosen whole (by least strain) and may fold it over on purpose.
+    std::vector<std::uint8_t> halve(nv, 0);
     for (int round = 0; round < 6; ++round) {
       bool any = false;
       for (std::uint32_t t = 0; t < topo_.tris.size(); ++t) {
         const auto& tri = topo_.tris[t];
         if (!active[tri[0]] && !active[tri[1]] && !active[tri[2]]) continue;
-        // A triangle moved whole with its region may turn over (a fold is a legal result).
-        if (moves.has_region[tri[0]] && moves.has_region[tri[1]] && moves.has_region[tri[2]]) continue;
+        if (moves.has_region[tri[0]] || moves.has_region[tri[1]] || moves.has_region[tri[2]]) continue;
         const Vec3 n0 = cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
                               sub(topo_.points[tri[2]], topo_.points[tri[0]]));
         const Vec3 q0 = add(topo_.points[tri[0]], delta[tri[0]]);
@@ -624,9 +706,14 @@ class Solver {
                               sub(add(topo_.points[tri[2]], delta[tri[2]]), q0));
         if (dot(n0, n1) > 0.1 * norm(n0) * norm(n1)) continue;
         any = true;
-        for (std::uint32_t v : tri) delta[v] = round < 5 ? scale(delta[v], 0.5) : Vec3{0, 0, 0};
+        for (std::uint32_t v : tri) halve[v] = 1;
       }
       if (!any) break;
+      for (std::uint32_t v = 0; v < nv; ++v) {
+        if (!halve[v]) continue;
+        delta[v] = round < 5 ? scale(delta[v], 0.5) : Vec3{0, 0, 0};
+        halve[v] = 0;
+      }
     }
     bool moved = false;
     for (std::uint32_t v = 0; v < nv; ++v) {

@@ -2,6 +2,7 @@
 #include "topology/scene_topology.h"
 
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 
 namespace untangle {
@@ -20,20 +21,37 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
   topo.welded.resize(mesh_count);
   topo.degenerate.assign(mesh_count, 0);
 
-  // Weld per mesh: sort input vertices by position (ties by index); each group of equal positions
-  // becomes one welded vertex, numbered in order of its smallest input index.
+  // Weld per mesh: each group of equal positions becomes one welded vertex, numbered in order of
+  // its smallest input index (an open-addressing table keyed by the coordinates' bits; -0.0 and
+  // 0.0 weld, as they compare equal).
   for (std::size_t m = 0; m < mesh_count; ++m) {
     const std::vector<Vec3>& pos = meshes[m].positions;
-    std::vector<std::uint32_t> order(pos.size());
-    std::iota(order.begin(), order.end(), 0u);
-    std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-      if (pos[a] != pos[b]) return pos[a] < pos[b];
-      return a < b;
-    });
+    std::size_t capacity = 16;
+    while (capacity < 2 * pos.size()) capacity *= 2;
+    std::vector<std::uint32_t> table(capacity, kNone);
     std::vector<std::uint32_t> leader(pos.size());
-    for (std::size_t i = 0; i < order.size(); ++i) {
-      const bool same = i > 0 && pos[order[i]] == pos[order[i - 1]];
-      leader[order[i]] = same ? leader[order[i - 1]] : order[i];
+    for (std::uint32_t v = 0; v < pos.size(); ++v) {
+      std::uint64_t h = 1469598103934665603ull;
+      for (double c : pos[v]) {
+        const double normal = c + 0.0;  // -0.0 -> 0.0
+        std::uint64_t bits;
+        std::memcpy(&bits, &normal, sizeof bits);
+        h = (h ^ bits) * 1099511628211ull;
+        h ^= h >> 29;
+      }
+      std::size_t slot = static_cast<std::size_t>(h) & (capacity - 1);
+      for (;;) {
+        if (table[slot] == kNone) {
+          table[slot] = v;
+          leader[v] = v;
+          break;
+        }
+        if (pos[table[slot]] == pos[v]) {
+          leader[v] = table[slot];
+          break;
+        }
+        slot = (slot + 1) & (capacity - 1);
+      }
     }
     topo.mesh_vertex_begin.push_back(static_cast<std::uint32_t>(topo.points.size()));
     std::vector<std::uint32_t>& map = topo.welded[m];
@@ -69,23 +87,31 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
   }
   topo.mesh_tri_begin.push_back(static_cast<std::uint32_t>(topo.tris.size()));
 
-  // Edges: sort (v0, v1, triangle) records; faces of one edge come out ascending.
+  // Edges: (v0, v1, triangle) records in (v0, v1, triangle) order, by a counting sort on v0 and a
+  // small sort inside each bucket; faces of one edge come out ascending.
   struct Record {
     std::uint32_t a, b, t;
     bool operator<(const Record& o) const {
       return a != o.a ? a < o.a : b != o.b ? b < o.b : t < o.t;
     }
   };
-  std::vector<Record> records;
-  records.reserve(topo.tris.size() * 3);
-  for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
-    for (int k = 0; k < 3; ++k) {
-      std::uint32_t a = topo.tris[t][k], b = topo.tris[t][(k + 1) % 3];
-      if (a > b) std::swap(a, b);
-      records.push_back({a, b, t});
+  std::vector<std::uint32_t> bucket(topo.points.size() + 1, 0);
+  for (const auto& tri : topo.tris)
+    for (int k = 0; k < 3; ++k) ++bucket[std::min(tri[k], tri[(k + 1) % 3]) + 1];
+  for (std::size_t v = 0; v < topo.points.size(); ++v) bucket[v + 1] += bucket[v];
+  std::vector<Record> records(topo.tris.size() * 3);
+  {
+    std::vector<std::uint32_t> fill(bucket.begin(), bucket.end() - 1);
+    for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
+      for (int k = 0; k < 3; ++k) {
+        std::uint32_t a = topo.tris[t][k], b = topo.tris[t][(k + 1) % 3];
+        if (a > b) std::swap(a, b);
+        records[fill[a]++] = {a, b, t};
+      }
     }
   }
-  std::sort(records.begin(), records.end());
+  for (std::size_t v = 0; v < topo.points.size(); ++v)
+    std::sort(records.begin() + bucket[v], records.begin() + bucket[v + 1]);
   topo.tri_edges.assign(topo.tris.size(), {kNone, kNone, kNone});
   for (std::size_t i = 0; i < records.size(); ++i) {
     if (i == 0 || records[i].a != records[i - 1].a || records[i].b != records[i - 1].b) {

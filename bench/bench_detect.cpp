@@ -1,0 +1,286 @@
+// Benchmark of detection against CGAL in one process: sheets of growing resolution through the
+// cow; untangle::find_intersections against CGAL's Polygon_mesh_processing routines.
+//
+// Usage: untangle_bench_detect [--quick]
+//   --quick  only n = 81, 3 repeats (default: n in {41, 81, 121, 161, 201, 281}, 5 repeats)
+// Exit status: 0 success; 1 the cow is not installed (libcgal-demo); 2 pair counts disagree.
+//
+// What is compared (DESIGN §9: targets are ratios against CGAL on the same meshes):
+// - pairs: our detection stage (DetectTimings::detect_ms: welding/topology, broad and narrow
+//   phase, all pairs within and between meshes) against CGAL's face-face pair routines on the
+//   same pairs: PMP::self_intersections on each mesh plus PMP::internal::
+//   compute_face_face_intersection between sheet and cow ("CGAL pairs"); the mutual part alone
+//   ("CGAL face-face") is listed too;
+// - curves: the whole of find_intersections (detection + contours + classification) against
+//   PMP::surface_intersection (polylines of sheet ∩ cow, corefinement's intersection graph).
+// CGAL's input conversion to Surface_mesh (welding included) is done once, outside the timings;
+// ours welds inside every timed call. Times are wall-clock (std::chrono::steady_clock), best and
+// median over the repeats; ratios are CGAL median / our median (> 1: we are faster).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <utility>
+#include <vector>
+
+#include "cgal_reference.h"
+#include "scenes/scenes.h"
+#include "untangle/intersections.h"
+#include "untangle/mesh.h"
+
+namespace {
+
+using untangle::cgal_reference::TrianglePair;
+
+struct Stat {
+  double best = 0.0;
+  double median = 0.0;
+};
+
+Stat stat_of(std::vector<double> ms) {
+  std::sort(ms.begin(), ms.end());
+  Stat s;
+  s.best = ms.front();
+  const std::size_t n = ms.size();
+  s.median = n % 2 == 1 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+  return s;
+}
+
+double elapsed_ms(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)
+      .count();
+}
+
+// Runs f() `repeats` times; returns the wall time of each run in ms.
+template <class F>
+std::vector<double> time_runs(int repeats, F&& f) {
+  std::vector<double> ms;
+  for (int r = 0; r < repeats; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    f();
+    ms.push_back(elapsed_ms(start));
+  }
+  return ms;
+}
+
+struct OursRun {
+  Stat total, detect, contours, prepared;  // prepared: total less welding/topology
+  untangle::Intersections result;
+};
+
+OursRun run_ours(const std::vector<untangle::Mesh>& meshes, int threads, int repeats,
+                 bool self = true) {
+  OursRun run;
+  std::vector<double> total, detect, contours, prepared;
+  untangle::DetectOptions options;
+  options.threads = threads;
+  options.self_intersections = self;
+  for (int r = 0; r < repeats; ++r) {
+    untangle::DetectTimings timings;
+    const auto start = std::chrono::steady_clock::now();
+    run.result = untangle::find_intersections(meshes, options, &timings);
+    total.push_back(elapsed_ms(start));
+    prepared.push_back(total.back() - timings.topology_ms);
+    detect.push_back(timings.detect_ms);
+    contours.push_back(timings.contours_ms);
+  }
+  run.total = stat_of(total);
+  run.detect = stat_of(detect);
+  run.contours = stat_of(contours);
+  run.prepared = stat_of(prepared);
+  return run;
+}
+
+struct Row {
+  int n = 0;
+  std::size_t vertices = 0, triangles = 0;
+  std::size_t pairs_ours = 0, pairs_cgal = 0, pairs_face_face = 0;
+  std::size_t only_ours = 0, only_cgal = 0;
+  std::size_t crossings = 0, contours = 0, polylines = 0, polyline_points = 0;
+  OursRun all, one;  // threads = 0 (all cores) and threads = 1
+  OursRun between;   // threads = 0, pairs of different meshes only (the job of surface_intersection)
+  std::size_t pairs_between = 0;
+  Stat cgal_pairs, cgal_face_face, cgal_surface;
+  double convert_ms = 0.0;
+};
+
+double ratio(const Stat& cgal, const Stat& ours) {
+  return ours.median > 0.0 ? cgal.median / ours.median : 0.0;
+}
+
+std::string best_median(const Stat& s) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%9.2f /%9.2f", s.best, s.median);
+  return buf;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  bool quick = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--quick") == 0) {
+      quick = true;
+    } else if (std::strcmp(argv[i], "-h") == 0 || std::strcmp(argv[i], "--help") == 0) {
+      std::printf("usage: %s [--quick]\n  --quick  only n = 81 with 3 repeats\n", argv[0]);
+      return 0;
+    } else {
+      std::fprintf(stderr, "error: unknown argument '%s' (usage: %s [--quick])\n", argv[i],
+                   argv[0]);
+      return 2;
+    }
+  }
+  const std::string cow = untangle::scenes::cow_path();
+  if (cow.empty() || !std::filesystem::is_regular_file(cow)) {
+    std::fprintf(stderr,
+                 "error: cow.off not found%s%s: this benchmark needs Debian's libcgal-demo "
+                 "(/usr/share/doc/libcgal-demo/data.tar.gz); install it "
+                 "(apt-get install libcgal-demo) and re-run cmake\n",
+                 cow.empty() ? "" : " at ", cow.c_str());
+    return 1;
+  }
+  const std::vector<int> sizes = quick ? std::vector<int>{81}
+                                       : std::vector<int>{41, 81, 121, 161, 201, 281};
+  const int repeats = quick ? 3 : 5;
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+
+  std::vector<Row> rows;
+  bool mismatch = false;
+  for (int n : sizes) {
+    std::fprintf(stderr, "n = %d ...\n", n);
+    const untangle::scenes::Scene scene = untangle::scenes::sheet_through_cow(n);
+    std::vector<untangle::Mesh> meshes = scene.movable;
+    meshes.insert(meshes.end(), scene.obstacles.begin(), scene.obstacles.end());
+    if (meshes.size() != 2) {
+      std::fprintf(stderr, "error: sheet_through_cow(%d) has %zu meshes, expected 2\n", n,
+                   meshes.size());
+      return 1;
+    }
+    Row row;
+    row.n = n;
+    for (const untangle::Mesh& m : meshes) {
+      row.vertices += m.positions.size();
+      row.triangles += m.triangles.size();
+    }
+
+    auto start = std::chrono::steady_clock::now();
+    const std::vector<untangle::cgal_reference::ReferenceMesh> ref =
+        untangle::cgal_reference::to_reference_meshes(meshes);
+    row.convert_ms = elapsed_ms(start);
+    for (std::size_t i = 0; i < ref.size(); ++i) {
+      if (!ref[i].degenerate.empty()) {
+        std::printf("note: n=%d mesh %zu: %zu degenerate triangles left out of CGAL's pairs\n", n,
+                    i, ref[i].degenerate.size());
+      }
+    }
+
+    row.all = run_ours(meshes, 0, repeats);
+    row.one = run_ours(meshes, 1, repeats);
+    row.between = run_ours(meshes, 0, repeats, false);
+    row.pairs_between = row.between.result.triangle_pairs.size();
+
+    std::vector<TrianglePair> cgal_pairs;
+    row.cgal_pairs = stat_of(time_runs(
+        repeats, [&] { cgal_pairs = untangle::cgal_reference::triangle_pairs(ref); }));
+    row.cgal_face_face = stat_of(time_runs(repeats, [&] {
+      row.pairs_face_face = untangle::cgal_reference::face_face_intersection(ref[0], ref[1]).size();
+    }));
+    row.cgal_surface = stat_of(time_runs(repeats, [&] {
+      row.polylines = untangle::cgal_reference::surface_intersection_polylines(
+          ref[0], ref[1], &row.polyline_points);
+    }));
+
+    const std::vector<TrianglePair>& ours = row.all.result.triangle_pairs;
+    row.pairs_ours = ours.size();
+    row.pairs_cgal = cgal_pairs.size();
+    row.crossings = row.all.result.crossings.size();
+    row.contours = row.all.result.contours.size();
+    std::vector<TrianglePair> diff;
+    std::set_difference(ours.begin(), ours.end(), cgal_pairs.begin(), cgal_pairs.end(),
+                        std::back_inserter(diff));
+    row.only_ours = diff.size();
+    diff.clear();
+    std::set_difference(cgal_pairs.begin(), cgal_pairs.end(), ours.begin(), ours.end(),
+                        std::back_inserter(diff));
+    row.only_cgal = diff.size();
+    if (row.pairs_between != row.pairs_face_face) {
+      mismatch = true;
+      std::printf("!!!!!!!! MISMATCH n=%d: pairs between meshes ours %zu, CGAL face-face %zu !!!!!!!!\n",
+                  n, row.pairs_between, row.pairs_face_face);
+    }
+    if (ours != cgal_pairs || row.one.result.triangle_pairs != ours) {
+      mismatch = true;
+      std::printf("!!!!!!!! MISMATCH n=%d: pairs ours %zu (1 thread: %zu), CGAL %zu; only ours "
+                  "%zu, only CGAL %zu !!!!!!!!\n",
+                  n, ours.size(), row.one.result.triangle_pairs.size(), cgal_pairs.size(),
+                  row.only_ours, row.only_cgal);
+    }
+    rows.push_back(std::move(row));
+  }
+
+  std::printf("\nuntangle detection vs CGAL %s, sheet through cow; %d repeats; %u cores "
+              "(\"all\" = DetectOptions::threads 0, \"1t\" = threads 1)\n",
+              CGAL_VERSION_STR, repeats, cores);
+  std::printf("times in ms as best / median; speed-up = CGAL median / our median\n\n");
+
+  std::printf("%5s %8s %8s %10s %10s %7s %10s %9s %9s %10s %10s\n", "n", "vertices",
+              "triangles", "pairs ours", "pairs CGAL", "agree", "face-face", "crossings",
+              "contours", "polylines", "CGAL conv");
+  for (const Row& r : rows) {
+    std::printf("%5d %8zu %8zu %10zu %10zu %7s %10zu %9zu %9zu %10zu %10.2f\n", r.n, r.vertices,
+                r.triangles, r.pairs_ours, r.pairs_cgal,
+                r.pairs_ours == r.pairs_cgal && r.only_ours == 0 && r.only_cgal == 0 ? "yes"
+                                                                                    : "NO!",
+                r.pairs_face_face, r.crossings, r.contours, r.polylines, r.convert_ms);
+  }
+
+  std::printf("\npairs: our detection stage vs CGAL self_intersections + "
+              "compute_face_face_intersection\n");
+  std::printf("%5s %21s %21s %21s %21s %9s %9s\n", "n", "ours detect (all)", "ours detect (1t)",
+              "CGAL pairs", "CGAL face-face only", "x (all)", "x (1t)");
+  for (const Row& r : rows) {
+    std::printf("%5d %21s %21s %21s %21s %9.2f %9.2f\n", r.n, best_median(r.all.detect).c_str(),
+                best_median(r.one.detect).c_str(), best_median(r.cgal_pairs).c_str(),
+                best_median(r.cgal_face_face).c_str(), ratio(r.cgal_pairs, r.all.detect),
+                ratio(r.cgal_pairs, r.one.detect));
+  }
+
+  std::printf("\nbetween the two meshes only (no self-intersections), the job of CGAL's "
+              "face-face routine and surface_intersection:\n");
+  std::printf("  like for like: CGAL is timed on its prepared Surface_mesh, ours on prepared\n"
+              "  topology (welding and edges left out on both sides); 'ours all' adds our welding,\n"
+              "  'CGAL all' adds CGAL's conversion.\n");
+  std::printf("%5s %8s %21s %21s %21s %21s %9s %9s %9s\n", "n", "pairs", "ours det+contours",
+              "CGAL surface_inters.", "ours all", "CGAL all", "x prep", "x all", "x strict");
+  for (const Row& r : rows) {
+    Stat cgal_all = r.cgal_surface;
+    cgal_all.best += r.convert_ms;
+    cgal_all.median += r.convert_ms;
+    std::printf("%5d %8zu %21s %21s %21s %21s %9.2f %9.2f %9.2f\n", r.n, r.pairs_between,
+                best_median(r.between.prepared).c_str(), best_median(r.cgal_surface).c_str(),
+                best_median(r.between.total).c_str(), best_median(cgal_all).c_str(),
+                ratio(r.cgal_surface, r.between.prepared), ratio(cgal_all, r.between.total),
+                ratio(r.cgal_surface, r.between.total));
+  }
+  std::printf("  x prep = CGAL surface_intersection / ours without welding; x all = both with input\n"
+              "  preparation; x strict = CGAL without, ours with.\n");
+
+  std::printf("\ncurves: find_intersections (detection + contours) vs CGAL surface_intersection\n");
+  std::printf("%5s %21s %21s %21s %21s %9s %9s\n", "n", "ours total (all)", "ours total (1t)",
+              "ours contours (all)", "CGAL surface_inters.", "x (all)", "x (1t)");
+  for (const Row& r : rows) {
+    std::printf("%5d %21s %21s %21s %21s %9.2f %9.2f\n", r.n, best_median(r.all.total).c_str(),
+                best_median(r.one.total).c_str(), best_median(r.all.contours).c_str(),
+                best_median(r.cgal_surface).c_str(), ratio(r.cgal_surface, r.all.total),
+                ratio(r.cgal_surface, r.one.total));
+  }
+
+  if (mismatch) {
+    std::printf("\n!!!!!!!! MISMATCH: our triangle pairs differ from CGAL's (see above) !!!!!!!!\n");
+    return 2;
+  }
+  return 0;
+}
