@@ -177,76 +177,65 @@ namespace {
 // block index so results can be kept per block and joined in order (deterministic).
 template <class Visit>
 void for_each_candidate(const SceneTopology& topo, const DetectSettings& settings,
-                        std::size_t block_size, std::size_t& blocks, bool prune, const Visit& visit) {
-  if (!settings.self_pairs) {
-    // Only pairs of different meshes: one hierarchy per mesh; a triangle queries the meshes after
-    // its own.
-    const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
-    std::vector<std::unique_ptr<TriangleBvh>> per_mesh(meshes);
-    for (std::size_t m = 0; m < meshes; ++m) {
-      std::vector<bool> only(meshes, false);
-      only[m] = true;
-      per_mesh[m] = std::make_unique<TriangleBvh>(topo, only);
-    }
-    const std::size_t n = topo.tris.size();
-    blocks = (n + block_size - 1) / block_size;
-    run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
-      std::vector<std::uint32_t> hits;
-      for (std::size_t block = begin; block < end; ++block) {
-        for (std::uint32_t t = static_cast<std::uint32_t>(block * block_size);
-             t < std::min(n, (block + 1) * block_size); ++t) {
-          const std::uint32_t mt = topo.tri_mesh[t];
-          hits.clear();
-          const Box3 box = triangle_box(topo, t);
-          for (std::size_t m = mt + 1; m < meshes; ++m) {
-            if (!settings.skip_among.empty() && settings.skip_among[mt] && settings.skip_among[m]) continue;
-            per_mesh[m]->query(box, hits);
-          }
-          std::sort(hits.begin(), hits.end());
-          for (std::uint32_t u : hits)
-            if (!prune || !surely_apart(topo, t, u)) visit(block, t, u);
-        }
-      }
-    });
-    return;
-  }
+                        std::size_t block_size, bool prune, const Visit& visit) {
+  // Broad phase: simultaneous descents of bounding-volume hierarchies (one per mesh), collected in
+  // a deterministic order; the filters and `visit` run in parallel blocks of pairs.
+  const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
   const bool skipping = !settings.skip_among.empty();
-  std::vector<bool> tested_mesh(topo.mesh_tri_begin.size() - 1, true);
-  if (skipping)
-    for (std::size_t m = 0; m < tested_mesh.size(); ++m) tested_mesh[m] = !settings.skip_among[m];
-  const TriangleBvh tested_bvh(topo, tested_mesh);
-  std::unique_ptr<TriangleBvh> own_skipped;
-  const TriangleBvh* skipped_bvh = settings.skipped_bvh;
-  if (skipping && skipped_bvh == nullptr) {
-    own_skipped = std::make_unique<TriangleBvh>(topo, settings.skip_among);
-    skipped_bvh = own_skipped.get();
+  auto skipped = [&](std::size_t m) { return skipping && settings.skip_among[m]; };
+  std::vector<std::unique_ptr<TriangleBvh>> per_mesh(meshes);
+  for (std::size_t m = 0; m < meshes; ++m) {
+    if (skipped(m) && settings.skipped_bvh != nullptr) continue;
+    std::vector<bool> only(meshes, false);
+    only[m] = true;
+    per_mesh[m] = std::make_unique<TriangleBvh>(topo, only);
   }
-  std::vector<std::uint32_t> tested;
-  for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
-    if (tested_mesh[topo.tri_mesh[t]]) tested.push_back(t);
-  blocks = (tested.size() + block_size - 1) / block_size;
+  std::vector<std::array<std::uint32_t, 2>> pairs;
+  auto add = [&](std::uint32_t t, std::uint32_t u) { pairs.push_back({std::min(t, u), std::max(t, u)}); };
+  for (std::size_t a = 0; a < meshes; ++a) {
+    if (skipped(a)) continue;
+    if (settings.self_pairs) per_mesh[a]->each_pair_self(add);
+    for (std::size_t b = a + 1; b < meshes; ++b) {
+      if (skipped(b) && settings.skipped_bvh != nullptr) continue;  // below, all at once
+      per_mesh[a]->each_pair_with(*per_mesh[b], add);
+    }
+    if (skipping && settings.skipped_bvh != nullptr) per_mesh[a]->each_pair_with(*settings.skipped_bvh, add);
+  }
+  // Skipped meshes before a tested one were visited from the tested side above (b > a only covers
+  // later meshes): pair earlier skipped meshes too.
+  if (!(skipping && settings.skipped_bvh != nullptr)) {
+    for (std::size_t a = 0; a < meshes; ++a) {
+      if (!skipped(a)) continue;
+      for (std::size_t b = a + 1; b < meshes; ++b)
+        if (!skipped(b)) per_mesh[a]->each_pair_with(*per_mesh[b], add);
+    }
+  }
+  const std::size_t blocks = (pairs.size() + block_size - 1) / block_size;
+  visit.start(blocks);
   run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t> hits;
     for (std::size_t block = begin; block < end; ++block) {
-      const std::size_t last = std::min(tested.size(), (block + 1) * block_size);
+      const std::size_t last = std::min(pairs.size(), (block + 1) * block_size);
       for (std::size_t i = block * block_size; i < last; ++i) {
-        const std::uint32_t t = tested[i];
-        const Box3 box = triangle_box(topo, t);
-        hits.clear();
-        tested_bvh.query(box, hits);
-        // Among tested triangles each pair is visited from its lower triangle.
-        hits.erase(std::remove_if(hits.begin(), hits.end(), [t](std::uint32_t u) { return u <= t; }),
-                   hits.end());
-        if (skipped_bvh != nullptr) skipped_bvh->query(box, hits);
-        std::sort(hits.begin(), hits.end());
-        for (std::uint32_t u : hits) {
-          if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
-          if (prune && surely_apart(topo, t, u)) continue;
-          visit(block, t, u);
-        }
+        const std::uint32_t t = pairs[i][0], u = pairs[i][1];
+        if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
+        if (prune && surely_apart(topo, t, u)) continue;
+        visit(block, t, u);
       }
     }
   });
+}
+
+// Results kept per block of pairs and joined in block order.
+template <class T, class Body>
+struct BlockSink {
+  std::vector<std::vector<T>>& found;
+  Body body;
+  void start(std::size_t blocks) const { found.assign(blocks, {}); }
+  void operator()(std::size_t block, std::uint32_t t, std::uint32_t u) const { body(found[block], t, u); }
+};
+template <class T, class Body>
+BlockSink<T, Body> sink(std::vector<std::vector<T>>& found, Body body) {
+  return {found, body};
 }
 
 constexpr std::size_t kBlock = 1024;
@@ -255,11 +244,9 @@ constexpr std::size_t kBlock = 1024;
 
 std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& topo,
                                                           const DetectSettings& settings) {
-  std::size_t blocks = 0;
-  std::vector<std::vector<std::array<std::uint32_t, 2>>> found((topo.tris.size() + kBlock - 1) / kBlock + 1);
-  for_each_candidate(topo, settings, kBlock, blocks, false, [&](std::size_t block, std::uint32_t t, std::uint32_t u) {
-    found[block].push_back({std::min(t, u), std::max(t, u)});
-  });
+  std::vector<std::vector<std::array<std::uint32_t, 2>>> found;
+  for_each_candidate(topo, settings, kBlock, false,
+                     sink(found, [](auto& out, std::uint32_t t, std::uint32_t u) { out.push_back({t, u}); }));
   std::vector<std::array<std::uint32_t, 2>> pairs;
   for (auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
   std::sort(pairs.begin(), pairs.end());
@@ -267,12 +254,12 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
 }
 
 CrossingSet detect_crossings(const SceneTopology& topo, const DetectSettings& settings) {
-  std::size_t blocks = 0;
-  std::vector<std::vector<RawCrossing>> found((topo.tris.size() + kBlock - 1) / kBlock + 1);
-  for_each_candidate(topo, settings, kBlock, blocks, true, [&](std::size_t block, std::uint32_t t, std::uint32_t u) {
-    test_owned_edges(topo, t, u, found[block]);
-    test_owned_edges(topo, u, t, found[block]);
-  });
+  std::vector<std::vector<RawCrossing>> found;
+  for_each_candidate(topo, settings, kBlock, true,
+                     sink(found, [&topo](auto& out, std::uint32_t t, std::uint32_t u) {
+                       test_owned_edges(topo, t, u, out);
+                       test_owned_edges(topo, u, t, out);
+                     }));
   CrossingSet set;
   for (auto& block : found) set.items.insert(set.items.end(), block.begin(), block.end());
   std::sort(set.items.begin(), set.items.end(), [](const RawCrossing& a, const RawCrossing& b) {

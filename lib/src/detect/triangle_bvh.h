@@ -30,18 +30,80 @@ class TriangleBvh {
   void query(const Box3& box, std::vector<std::uint32_t>& out) const;
   bool empty() const { return triangles_.empty(); }
 
+  // Calls f(t, u) for every triangle t of this hierarchy and u of `other` whose boxes overlap, by
+  // a simultaneous descent of both trees (deterministic order).
+  template <class F>
+  void each_pair_with(const TriangleBvh& other, const F& f) const {
+    if (nodes_.empty() || other.nodes_.empty()) return;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0u, 0u}};
+    while (!stack.empty()) {
+      const auto [i, j] = stack.back();
+      stack.pop_back();
+      const Node& a = nodes_[i];
+      const Node& b = other.nodes_[j];
+      if (!a.box.overlaps(b.box)) continue;
+      if (a.count > 0 && b.count > 0) {
+        for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
+          for (std::uint32_t y = b.first; y < b.first + b.count; ++y)
+            if (leaf_boxes_[x].overlaps(other.leaf_boxes_[y])) f(triangles_[x], other.triangles_[y]);
+      } else if (b.count > 0 || (a.count == 0 && volume(a.box) >= volume(b.box))) {
+        stack.push_back({a.right, j});
+        stack.push_back({a.left, j});
+      } else {
+        stack.push_back({i, b.right});
+        stack.push_back({i, b.left});
+      }
+    }
+  }
+
+  // Calls f(t, u) once for every unordered pair of distinct triangles whose boxes overlap.
+  template <class F>
+  void each_pair_self(const F& f) const {
+    if (nodes_.empty()) return;
+    // (i, i) means "pairs inside node i"; (i, j) with i != j, pairs across two disjoint nodes.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0u, 0u}};
+    while (!stack.empty()) {
+      const auto [i, j] = stack.back();
+      stack.pop_back();
+      const Node& a = nodes_[i];
+      if (i == j) {
+        if (a.count > 0) {
+          for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
+            for (std::uint32_t y = x + 1; y < a.first + a.count; ++y)
+              if (leaf_boxes_[x].overlaps(leaf_boxes_[y])) f(triangles_[x], triangles_[y]);
+        } else {
+          stack.push_back({a.left, a.right});
+          stack.push_back({a.right, a.right});
+          stack.push_back({a.left, a.left});
+        }
+        continue;
+      }
+      const Node& b = nodes_[j];
+      if (!a.box.overlaps(b.box)) continue;
+      if (a.count > 0 && b.count > 0) {
+        for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
+          for (std::uint32_t y = b.first; y < b.first + b.count; ++y)
+            if (leaf_boxes_[x].overlaps(leaf_boxes_[y])) f(triangles_[x], triangles_[y]);
+      } else if (b.count > 0 || (a.count == 0 && volume(a.box) >= volume(b.box))) {
+        stack.push_back({a.right, j});
+        stack.push_back({a.left, j});
+      } else {
+        stack.push_back({i, b.right});
+        stack.push_back({i, b.left});
+      }
+    }
+  }
+
  private:
   struct Node {
     Box3 box;
     std::uint32_t first = 0, count = 0;  // leaf: range in triangles_
     std::uint32_t left = 0, right = 0;   // inner: children
   };
-  struct Item {
-    Box3 box;
-    std::array<double, 3> centre{};  // twice the box centre
-    std::uint32_t tri = 0;
-  };
-  std::uint32_t build(std::uint32_t first, std::uint32_t count, std::vector<Item>& items);
+  static double volume(const Box3& b) {
+    return (b.hi[0] - b.lo[0]) + (b.hi[1] - b.lo[1]) + (b.hi[2] - b.lo[2]);  // half perimeter
+  }
+  std::uint32_t build(std::uint32_t first, std::uint32_t count);
 
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> triangles_;
