@@ -83,6 +83,18 @@ Link follow(const SceneTopology& topo, const CrossingSet& set, std::uint32_t ci,
 
 }  // namespace
 
+std::vector<std::uint32_t> odd_edges(std::vector<std::uint32_t>& crossed) {
+  std::sort(crossed.begin(), crossed.end());
+  std::vector<std::uint32_t> odd;
+  for (std::size_t i = 0; i < crossed.size();) {
+    std::size_t j = i;
+    while (j < crossed.size() && crossed[j] == crossed[i]) ++j;
+    if ((j - i) % 2 == 1) odd.push_back(crossed[i]);
+    i = j;
+  }
+  return odd;
+}
+
 std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
                           const std::vector<std::uint8_t>& edge_is_cut,
                           std::vector<std::uint32_t>& region) {
@@ -293,14 +305,7 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
       std::vector<std::uint32_t> edges;
       for (std::size_t i = 0; i < contour.crossings.size(); ++i)
         if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
-      std::sort(edges.begin(), edges.end());
-      std::vector<std::uint32_t> odd;
-      for (std::size_t i = 0; i < edges.size();) {
-        std::size_t j = i;
-        while (j < edges.size() && edges[j] == edges[i]) ++j;
-        if ((j - i) % 2 == 1) odd.push_back(edges[i]);
-        i = j;
-      }
+      const std::vector<std::uint32_t> odd = odd_edges(edges);
       track.cut_edges = odd.size();
       if (track.type != TrackType::kCL && track.type != TrackType::kBB) continue;
       if (odd.empty()) {  // cuts off no vertex: a disk inside faces, or a sliver at the boundary

@@ -24,6 +24,10 @@ struct TracedContour {
 std::vector<TracedContour> build_contours(const SceneTopology& topology,
                                           const CrossingSet& crossings);
 
+// The edges that occur an odd number of times in `crossed` (the edges a set of contours cuts),
+// ascending. `crossed` is sorted in place.
+std::vector<std::uint32_t> odd_edges(std::vector<std::uint32_t>& crossed);
+
 // Regions of one mesh after cutting `cut_edges` (edges of that mesh): region id per welded vertex
 // of the mesh (index v - mesh_vertex_begin[mesh]); vertices reachable without crossing a cut edge
 // share a region. Regions are numbered in order of their lowest vertex. Returns the region count.

@@ -39,20 +39,7 @@ class TriangleBvh {
     while (!stack.empty()) {
       const auto [i, j] = stack.back();
       stack.pop_back();
-      const Node& a = nodes_[i];
-      const Node& b = other.nodes_[j];
-      if (!a.box.overlaps(b.box)) continue;
-      if (a.count > 0 && b.count > 0) {
-        for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
-          for (std::uint32_t y = b.first; y < b.first + b.count; ++y)
-            if (leaf_boxes_[x].overlaps(other.leaf_boxes_[y])) f(triangles_[x], other.triangles_[y]);
-      } else if (b.count > 0 || (a.count == 0 && volume(a.box) >= volume(b.box))) {
-        stack.push_back({a.right, j});
-        stack.push_back({a.left, j});
-      } else {
-        stack.push_back({i, b.right});
-        stack.push_back({i, b.left});
-      }
+      descend(other, i, j, stack, f);
     }
   }
 
@@ -78,19 +65,7 @@ class TriangleBvh {
         }
         continue;
       }
-      const Node& b = nodes_[j];
-      if (!a.box.overlaps(b.box)) continue;
-      if (a.count > 0 && b.count > 0) {
-        for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
-          for (std::uint32_t y = b.first; y < b.first + b.count; ++y)
-            if (leaf_boxes_[x].overlaps(leaf_boxes_[y])) f(triangles_[x], triangles_[y]);
-      } else if (b.count > 0 || (a.count == 0 && volume(a.box) >= volume(b.box))) {
-        stack.push_back({a.right, j});
-        stack.push_back({a.left, j});
-      } else {
-        stack.push_back({i, b.right});
-        stack.push_back({i, b.left});
-      }
+      descend(*this, i, j, stack, f);
     }
   }
 
@@ -100,6 +75,26 @@ class TriangleBvh {
     std::uint32_t first = 0, count = 0;  // leaf: range in triangles_
     std::uint32_t left = 0, right = 0;   // inner: children
   };
+  // One step of a simultaneous descent of node i (this tree) and node j (other): report the
+  // overlapping leaf pairs, or push the children of the larger node.
+  template <class F>
+  void descend(const TriangleBvh& other, std::uint32_t i, std::uint32_t j,
+               std::vector<std::pair<std::uint32_t, std::uint32_t>>& stack, const F& f) const {
+    const Node& a = nodes_[i];
+    const Node& b = other.nodes_[j];
+    if (!a.box.overlaps(b.box)) return;
+    if (a.count > 0 && b.count > 0) {
+      for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
+        for (std::uint32_t y = b.first; y < b.first + b.count; ++y)
+          if (leaf_boxes_[x].overlaps(other.leaf_boxes_[y])) f(triangles_[x], other.triangles_[y]);
+    } else if (b.count > 0 || (a.count == 0 && volume(a.box) >= volume(b.box))) {
+      stack.push_back({a.right, j});
+      stack.push_back({a.left, j});
+    } else {
+      stack.push_back({i, b.right});
+      stack.push_back({i, b.left});
+    }
+  }
   static double volume(const Box3& b) {
     return (b.hi[0] - b.lo[0]) + (b.hi[1] - b.lo[1]) + (b.hi[2] - b.lo[2]);  // half perimeter
   }

@@ -5,12 +5,22 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <new>
+#include <stdexcept>
+#include <streambuf>
 #include <string>
+#include <string_view>
 #include <system_error>
+#include <utility>
 
 #include "io/read_obj.h"
 #include "io/read_off.h"
@@ -23,6 +33,10 @@ namespace {
   throw Error(ExitCode::kUnreadableInput, path, message);
 }
 
+// What a reader's running out of memory means for a file that fits on disk.
+constexpr const char* kTooManyElements =
+    "file claims more elements than it holds, or is corrupt (the reader ran out of memory)";
+
 // assimp's messages end in newlines and sometimes repeat the path; keep one clean line.
 std::string one_line(std::string text) {
   for (char& c : text) {
@@ -32,47 +46,485 @@ std::string one_line(std::string text) {
   return text;
 }
 
-void collect(const aiScene& scene, const aiNode& node, const aiMatrix4x4& parent,
-             const std::string& path, Role role, std::vector<Mesh>& out) {
-  const aiMatrix4x4 world = parent * node.mTransformation;
-  for (unsigned k = 0; k < node.mNumMeshes; ++k) {
-    const aiMesh& in = *scene.mMeshes[node.mMeshes[k]];
-    Mesh mesh;
-    mesh.path = path;
-    mesh.name = in.mName.length > 0 ? in.mName.C_Str() : node.mName.C_Str();
-    mesh.role = role;
-    mesh.positions.resize(in.mNumVertices);
-    for (unsigned v = 0; v < in.mNumVertices; ++v) {
-      const aiVector3D p = world * in.mVertices[v];
-      mesh.positions[v] = {static_cast<double>(p.x), static_cast<double>(p.y),
-                           static_cast<double>(p.z)};
-      for (double c : mesh.positions[v]) {
-        if (!std::isfinite(c)) {
-          fail(path, "vertex " + std::to_string(v) + " has a NaN or infinite coordinate");
+// assimp reports exceptions of the standard library thrown inside an importer by their what():
+// "std::bad_alloc", "vector::_M_default_append", "cannot create std::vector larger than
+// max_size()". Those mean a count in the file was believed; say so instead.
+bool is_allocation_failure(const std::string& why) {
+  return why == "std::bad_alloc" || why == "std::bad_array_new_length" ||
+         why.rfind("vector::", 0) == 0 || why.rfind("basic_string::", 0) == 0 ||
+         why.find("max_size()") != std::string::npos;
+}
+
+// Names go into JSON reports, which must be valid UTF-8; files carry Latin-1 names or garbage.
+// Invalid sequences become U+FFFD.
+std::string valid_utf8(const std::string& s) {
+  std::string out;
+  out.reserve(s.size());
+  std::size_t i = 0;
+  while (i < s.size()) {
+    const auto b = [&](std::size_t k) { return static_cast<unsigned char>(s[k]); };
+    const unsigned char c = b(i);
+    std::size_t n = 0;
+    unsigned char lo = 0x80, hi = 0xBF;  // range of the first continuation byte
+    if (c < 0x80) {
+      n = 1;
+    } else if (c >= 0xC2 && c <= 0xDF) {
+      n = 2;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+      n = 3;
+      if (c == 0xE0) lo = 0xA0;  // overlong
+      if (c == 0xED) hi = 0x9F;  // surrogates
+    } else if (c >= 0xF0 && c <= 0xF4) {
+      n = 4;
+      if (c == 0xF0) lo = 0x90;  // overlong
+      if (c == 0xF4) hi = 0x8F;  // above U+10FFFF
+    }
+    bool ok = n > 0 && i + n <= s.size();
+    for (std::size_t k = 1; ok && k < n; ++k) {
+      const unsigned char d = b(i + k);
+      ok = k == 1 ? (d >= lo && d <= hi) : (d >= 0x80 && d <= 0xBF);
+    }
+    if (ok) {
+      out.append(s, i, n);
+      i += n;
+    } else {
+      out += "\xEF\xBF\xBD";
+      ++i;
+    }
+  }
+  return out;
+}
+
+// Some of assimp's bundled parsers (openddlparser for OpenGEX) write to std::cerr or std::cout.
+// The library never prints (STYLE.md): while an importer runs the standard streams go nowhere.
+class SilencedStreams {
+ public:
+  SilencedStreams()
+      : out_(std::cout.rdbuf(&null_)), err_(std::cerr.rdbuf(&null_)), log_(std::clog.rdbuf(&null_)) {}
+  ~SilencedStreams() {
+    std::cout.rdbuf(out_);
+    std::cerr.rdbuf(err_);
+    std::clog.rdbuf(log_);
+  }
+  SilencedStreams(const SilencedStreams&) = delete;
+  SilencedStreams& operator=(const SilencedStreams&) = delete;
+
+ private:
+  struct NullBuffer : std::streambuf {
+    int overflow(int c) override { return traits_type::not_eof(c); }
+  };
+  NullBuffer null_;
+  std::streambuf* out_;
+  std::streambuf* err_;
+  std::streambuf* log_;
+};
+
+std::string lower(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+template <class T>
+bool parse_number(std::string_view token, T& value) {
+  if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  return ec == std::errc() && end == token.data() + token.size() && !token.empty();
+}
+
+// Splits off the next token of blanks-separated text.
+std::string_view next_token(std::string_view& s) {
+  std::size_t k = 0;
+  while (k < s.size() && (s[k] == ' ' || s[k] == '\t' || s[k] == '\r')) ++k;
+  std::size_t n = k;
+  while (n < s.size() && s[n] != ' ' && s[n] != '\t' && s[n] != '\r') ++n;
+  const std::string_view token = s.substr(k, n - k);
+  s.remove_prefix(n);
+  return token;
+}
+
+// ----- PLY: checked here before assimp sees it -----
+//
+// assimp 5.2 loops forever on a PLY header without `end_header`, crashes on a damaged one, and
+// sizes its arrays by the header's element counts and by each list's count without comparing
+// them with the file. The header is parsed here and the body walked (binary: by byte counts;
+// ASCII: one element per line), so that every count is known to fit in the file before assimp
+// allocates anything.
+
+struct PlyProperty {
+  bool list = false;
+  std::size_t size = 0;        // scalar: bytes of the value; list: bytes of the count
+  bool count_signed = false;   // list: whether the count type is signed
+  std::size_t item_size = 0;   // list: bytes of each item
+};
+
+struct PlyElement {
+  std::string name;
+  unsigned long long count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+// Bytes of a PLY scalar type; 0 for a name PLY does not define.
+std::size_t ply_type_size(std::string_view type) {
+  for (std::string_view t : {"char", "uchar", "int8", "uint8"})
+    if (type == t) return 1;
+  for (std::string_view t : {"short", "ushort", "int16", "uint16"})
+    if (type == t) return 2;
+  for (std::string_view t : {"int", "uint", "int32", "uint32", "float", "float32"})
+    if (type == t) return 4;
+  for (std::string_view t : {"double", "float64"})
+    if (type == t) return 8;
+  return 0;
+}
+
+bool ply_type_is_integer(std::string_view type) {
+  return type != "float" && type != "float32" && type != "double" && type != "float64";
+}
+
+bool ply_type_is_signed(std::string_view type) {
+  return type == "char" || type == "int8" || type == "short" || type == "int16" ||
+         type == "int" || type == "int32";
+}
+
+// Sequential reading through a fixed buffer: skipping and reading the small count of a list cost
+// no system call per element.
+class ChunkReader {
+ public:
+  ChunkReader(std::ifstream& in, std::uint64_t begin, std::uint64_t size)
+      : in_(in), pos_(begin), size_(size) {}
+
+  std::uint64_t remaining() const { return size_ - pos_; }
+
+  bool skip(std::uint64_t n) {
+    if (n > remaining()) return false;
+    pos_ += n;
+    return true;
+  }
+
+  bool read(unsigned char* out, std::size_t n) {
+    if (n > remaining()) return false;
+    if (pos_ < buffer_begin_ || pos_ + n > buffer_begin_ + buffer_.size()) {
+      buffer_.resize(static_cast<std::size_t>(std::min<std::uint64_t>(kChunk, remaining())));
+      in_.clear();
+      in_.seekg(static_cast<std::streamoff>(pos_));
+      in_.read(reinterpret_cast<char*>(buffer_.data()), static_cast<std::streamsize>(buffer_.size()));
+      if (in_.gcount() != static_cast<std::streamsize>(buffer_.size())) return false;
+      buffer_begin_ = pos_;
+    }
+    std::memcpy(out, buffer_.data() + (pos_ - buffer_begin_), n);
+    pos_ += n;
+    return true;
+  }
+
+ private:
+  static constexpr std::uint64_t kChunk = 1 << 20;
+  std::ifstream& in_;
+  std::uint64_t pos_;
+  std::uint64_t size_;
+  std::vector<unsigned char> buffer_;
+  std::uint64_t buffer_begin_ = 0;
+};
+
+// Walks a binary body: every element and list must fit in the bytes that follow the header.
+void check_ply_binary_body(const std::string& path, std::ifstream& in, std::uint64_t begin,
+                           std::uint64_t size, bool big_endian,
+                           const std::vector<PlyElement>& elements) {
+  ChunkReader body(in, begin, size);
+  for (const PlyElement& e : elements) {
+    std::uint64_t fixed = 0;
+    bool has_list = false;
+    for (const PlyProperty& p : e.properties) {
+      fixed += p.size;
+      has_list = has_list || p.list;
+    }
+    // Checked before the walk: even a property-less element costs assimp memory per instance.
+    if (e.count > body.remaining() / std::max<std::uint64_t>(fixed, 1)) {
+      fail(path, "PLY header claims " + std::to_string(e.count) + " '" + e.name +
+                     "' elements, more than the file (" + std::to_string(size) + " bytes) holds");
+    }
+    if (!has_list) {
+      body.skip(e.count * fixed);
+      continue;
+    }
+    for (unsigned long long k = 0; k < e.count; ++k) {
+      for (const PlyProperty& p : e.properties) {
+        if (!p.list) {
+          if (!body.skip(p.size)) fail(path, "file ends inside '" + e.name + "' element " +
+                                                 std::to_string(k) + " (truncated?)");
+          continue;
+        }
+        unsigned char bytes[8] = {};
+        if (!body.read(bytes, p.size))
+          fail(path, "file ends inside '" + e.name + "' element " + std::to_string(k) +
+                         " (truncated?)");
+        if (big_endian) std::reverse(bytes, bytes + p.size);
+        std::uint64_t count = 0;
+        for (std::size_t b = p.size; b-- > 0;) count = (count << 8) | bytes[b];
+        if (p.count_signed && (bytes[p.size - 1] & 0x80) != 0)
+          fail(path, "'" + e.name + "' element " + std::to_string(k) + " has a negative list size");
+        if (count > body.remaining() / p.item_size)
+          fail(path, "'" + e.name + "' element " + std::to_string(k) + " claims a list of " +
+                         std::to_string(count) + " values, more than the file holds");
+        body.skip(count * p.item_size);
+      }
+    }
+  }
+}
+
+// Walks an ASCII body, one element per (non-blank) line as assimp reads it: there must be a line
+// for every element, and every list may claim no more values than its line holds.
+void check_ply_ascii_body(const std::string& path, std::ifstream& in, std::size_t header_lines,
+                          std::uint64_t size, const std::vector<PlyElement>& elements) {
+  std::uint64_t remaining = size - static_cast<std::uint64_t>(in.tellg());
+  std::string text;
+  std::size_t number = header_lines;
+  for (const PlyElement& e : elements) {
+    // Each element takes a line with at least one character and a newline.
+    if (e.count > remaining / 2 + 1) {
+      fail(path, "PLY header claims " + std::to_string(e.count) + " '" + e.name +
+                     "' elements, more than the file (" + std::to_string(size) + " bytes) holds");
+    }
+    for (unsigned long long k = 0; k < e.count; ++k) {
+      std::string_view line;
+      do {
+        if (!std::getline(in, text))
+          fail(path, "file ends after " + std::to_string(k) + " of " + std::to_string(e.count) +
+                         " '" + e.name + "' elements (truncated?)");
+        ++number;
+        line = text;
+      } while (line.find_first_not_of(" \t\r") == std::string_view::npos);
+      for (const PlyProperty& p : e.properties) {
+        // A short line is read by assimp with zeros for the missing values (Blender writes such
+        // files): only lists, which size allocations, must fit in their line.
+        const std::string_view value = next_token(line);
+        if (value.empty()) break;
+        if (!p.list) continue;
+        unsigned long long count = 0;
+        if (!parse_number(value, count))
+          fail(path, "line " + std::to_string(number) + ": malformed list size '" +
+                         std::string(value.substr(0, 20)) + "'");
+        for (unsigned long long c = 0; c < count; ++c) {
+          if (next_token(line).empty())
+            fail(path, "line " + std::to_string(number) + ": list claims " +
+                           std::to_string(count) + " values, the line holds fewer");
         }
       }
     }
-    mesh.source_faces = in.mNumFaces;
-    for (unsigned f = 0; f < in.mNumFaces; ++f) {
-      const aiFace& face = in.mFaces[f];
-      for (unsigned c = 0; c < face.mNumIndices; ++c) {
-        if (face.mIndices[c] >= in.mNumVertices) {
-          fail(path, "face " + std::to_string(f) + " refers to vertex " +
-                         std::to_string(face.mIndices[c]) + " but the mesh has " +
-                         std::to_string(in.mNumVertices) + " vertices");
+  }
+}
+
+void check_ply(const std::string& path, std::uint64_t size) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open for reading");
+  std::string text;
+  std::size_t number = 0;
+  bool ascii = false, big_endian = false;
+  std::vector<PlyElement> elements;
+  bool ended = false;
+  while (!ended && std::getline(in, text)) {
+    ++number;
+    const std::string where = "line " + std::to_string(number) + ": ";
+    for (char c : text) {
+      const auto u = static_cast<unsigned char>(c);
+      if (u < 0x20 && c != '\t' && c != '\r')
+        fail(path, where + "binary data in the PLY header (corrupt, or the header is truncated)");
+    }
+    std::string_view line(text);
+    const std::string_view keyword = next_token(line);
+    if (number == 1) {
+      if (lower(std::string(keyword)) != "ply") fail(path, where + "not a PLY file");
+      continue;
+    }
+    if (number == 2) {
+      const std::string_view format = next_token(line);
+      if (keyword != "format") fail(path, where + "PLY header lacks its format line");
+      if (format == "ascii") {
+        ascii = true;
+      } else if (format == "binary_big_endian") {
+        big_endian = true;
+      } else if (format != "binary_little_endian") {
+        fail(path, where + "unknown PLY format '" + std::string(format.substr(0, 40)) + "'");
+      }
+      continue;
+    }
+    if (keyword == "end_header") {
+      ended = next_token(line).empty();
+      if (!ended) fail(path, where + "malformed end_header line");
+    } else if (keyword == "element") {
+      PlyElement e;
+      e.name = std::string(next_token(line).substr(0, 40));
+      if (e.name.empty() || !parse_number(next_token(line), e.count))
+        fail(path, where + "malformed element line");
+      elements.push_back(std::move(e));
+    } else if (keyword == "property") {
+      if (elements.empty()) fail(path, where + "property before any element");
+      PlyProperty p;
+      std::string_view type = next_token(line);
+      if (type == "list") {
+        p.list = true;
+        const std::string_view count_type = next_token(line);
+        type = next_token(line);
+        p.size = ply_type_size(count_type);
+        p.count_signed = ply_type_is_signed(count_type);
+        p.item_size = ply_type_size(type);
+        if (!ascii && (p.size == 0 || p.item_size == 0 || !ply_type_is_integer(count_type)))
+          fail(path, where + "malformed list property");
+      } else {
+        p.size = ply_type_size(type);
+        if (!ascii && p.size == 0)
+          fail(path, where + "unknown property type '" + std::string(type.substr(0, 40)) + "'");
+      }
+      if (next_token(line).empty()) fail(path, where + "property without a name");
+      elements.back().properties.push_back(p);
+    }
+    // comment, obj_info and anything else: skipped, as assimp does.
+  }
+  if (!ended) fail(path, "PLY header has no end_header line (truncated or corrupt)");
+  if (ascii) {
+    check_ply_ascii_body(path, in, number, size, elements);
+  } else {
+    check_ply_binary_body(path, in, static_cast<std::uint64_t>(in.tellg()), size, big_endian,
+                          elements);
+  }
+}
+
+// ----- OFF variants read by assimp (COFF, NOFF, ...): counts checked against the size -----
+
+// assimp allocates the header's vertex and face counts at once. Like our own OFF reader, require
+// that they can fit: a vertex line has at least "0 0 0\n", a face line at least "0\n".
+void check_off_counts(const std::string& path, std::uint64_t size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string text;
+  std::vector<std::string> tokens;
+  std::size_t lines = 0;
+  while (tokens.size() < 3 && lines < 64 && std::getline(in, text)) {
+    ++lines;
+    std::string_view line(text.substr(0, std::min<std::size_t>(text.size(), 256)));
+    line = line.substr(0, line.find('#'));
+    for (std::string_view t = next_token(line); !t.empty(); t = next_token(line))
+      tokens.emplace_back(t);
+  }
+  unsigned long long nv = 0, nf = 0;
+  if (tokens.size() < 3 || !parse_number(tokens[1], nv) || !parse_number(tokens[2], nf)) return;
+  if (nv > size || nf > size || 6 * nv + 2 * nf > size + 1)
+    fail(path, "header claims " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                   " faces, more than the file (" + std::to_string(size) + " bytes) can hold");
+}
+
+// The first bytes of the file, for telling formats apart when the extension does not.
+std::string file_start(const std::string& path, std::size_t n) {
+  std::ifstream in(path, std::ios::binary);
+  std::string bytes(n, '\0');
+  in.read(bytes.data(), static_cast<std::streamsize>(n));
+  bytes.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
+  return bytes;
+}
+
+// Meshes of the node graph in pre-order (node, then its children in order), with world
+// transforms. Iterative: a deep node graph must not exhaust the stack.
+void collect(const aiScene& scene, const std::string& path, Role role, std::vector<Mesh>& out) {
+  std::vector<std::pair<const aiNode*, aiMatrix4x4>> stack{{scene.mRootNode, aiMatrix4x4()}};
+  while (!stack.empty()) {
+    const auto [node, parent] = stack.back();
+    stack.pop_back();
+    const aiMatrix4x4 world = parent * node->mTransformation;
+    for (unsigned k = 0; k < node->mNumMeshes; ++k) {
+      if (node->mMeshes[k] >= scene.mNumMeshes)
+        fail(path, "a node refers to mesh " + std::to_string(node->mMeshes[k]) +
+                       " but the file has " + std::to_string(scene.mNumMeshes));
+      const aiMesh& in = *scene.mMeshes[node->mMeshes[k]];
+      if (in.mNumVertices > 0 && in.mVertices == nullptr) fail(path, "a mesh without positions");
+      Mesh mesh;
+      mesh.path = path;
+      mesh.name = in.mName.length > 0 ? in.mName.C_Str() : node->mName.C_Str();
+      mesh.role = role;
+      mesh.positions.resize(in.mNumVertices);
+      for (unsigned v = 0; v < in.mNumVertices; ++v) {
+        const aiVector3D p = world * in.mVertices[v];
+        mesh.positions[v] = {static_cast<double>(p.x), static_cast<double>(p.y),
+                             static_cast<double>(p.z)};
+        for (double c : mesh.positions[v]) {
+          if (!std::isfinite(c)) {
+            fail(path, "vertex " + std::to_string(v) + " has a NaN or infinite coordinate");
+          }
         }
       }
-      // Points and lines carry no surface: skipped. Polygons become fans around their first corner.
-      for (unsigned c = 2; c < face.mNumIndices; ++c) {
-        mesh.triangles.push_back({face.mIndices[0], face.mIndices[c - 1], face.mIndices[c]});
-        mesh.polygon.push_back(f);
+      mesh.source_faces = in.mNumFaces;
+      for (unsigned f = 0; f < in.mNumFaces; ++f) {
+        const aiFace& face = in.mFaces[f];
+        for (unsigned c = 0; c < face.mNumIndices; ++c) {
+          if (face.mIndices[c] >= in.mNumVertices) {
+            fail(path, "face " + std::to_string(f) + " refers to vertex " +
+                           std::to_string(face.mIndices[c]) + " but the mesh has " +
+                           std::to_string(in.mNumVertices) + " vertices");
+          }
+        }
+        // Points and lines carry no surface: skipped. Polygons become fans around their first
+        // corner.
+        for (unsigned c = 2; c < face.mNumIndices; ++c) {
+          mesh.triangles.push_back({face.mIndices[0], face.mIndices[c - 1], face.mIndices[c]});
+          mesh.polygon.push_back(f);
+        }
       }
+      if (!mesh.triangles.empty()) out.push_back(std::move(mesh));
     }
-    if (!mesh.triangles.empty()) out.push_back(std::move(mesh));
+    for (unsigned c = node->mNumChildren; c-- > 0;) {
+      if (node->mChildren[c] == nullptr) fail(path, "a node of the scene graph is missing");
+      stack.emplace_back(node->mChildren[c], world);
+    }
   }
-  for (unsigned c = 0; c < node.mNumChildren; ++c) {
-    collect(scene, *node.mChildren[c], world, path, role, out);
+}
+
+std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std::string& extension,
+                                   std::uint64_t size) {
+  Assimp::Importer importer;
+  const bool known_extension = importer.IsExtensionSupported(extension);
+  const std::string start = file_start(path, 16);
+  if (extension == ".ply" || (!known_extension && lower(start.substr(0, 3)) == "ply")) {
+    check_ply(path, size);
   }
+  std::string_view first(start);
+  const std::string keyword = lower(std::string(next_token(first)));
+  if (extension == ".off" || (!known_extension && keyword.size() >= 3 &&
+                              keyword.compare(keyword.size() - 3, 3, "off") == 0)) {
+    check_off_counts(path, size);
+  }
+
+  const aiScene* scene = nullptr;
+  std::string why;
+  {
+    SilencedStreams silenced;
+    try {
+      // No joining, no pre-transforming, no triangulation by assimp: vertex order stays as in the
+      // file and polygons are fanned here, so every triangle knows its source face.
+      scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
+    } catch (const std::bad_alloc&) {
+      why = "std::bad_alloc";
+    } catch (const std::exception& e) {
+      why = e.what();
+    } catch (...) {
+      why = "unknown error";
+    }
+  }
+  if (scene == nullptr) {
+    if (why.empty()) why = one_line(importer.GetErrorString());
+    if (why.find("contains no faces") != std::string::npos) {
+      fail(path, "no triangles (0 faces); untangle needs surface meshes");
+    }
+    if (is_allocation_failure(why)) fail(path, std::string("cannot read mesh: ") + kTooManyElements);
+    if (why.empty()) why = "unknown error";
+    fail(path, "cannot read mesh: " + why);
+  }
+  if (scene->mRootNode == nullptr) fail(path, "no scene graph in the file");
+
+  std::vector<Mesh> meshes;
+  collect(*scene, path, role, meshes);
+  if (meshes.empty()) {
+    std::size_t faces = 0;
+    for (unsigned m = 0; m < scene->mNumMeshes; ++m) faces += scene->mMeshes[m]->mNumFaces;
+    fail(path, "no triangles (" + std::to_string(faces) +
+                   " faces, all points or lines); untangle needs surface meshes");
+  }
+  return meshes;
 }
 
 }  // namespace
@@ -82,40 +534,35 @@ std::vector<Mesh> read_meshes(const std::string& path, Role role) {
   const std::filesystem::file_status status = std::filesystem::status(path, ec);
   if (!std::filesystem::exists(status)) fail(path, "no such file");
   if (std::filesystem::is_directory(status)) fail(path, "is a directory, not a mesh file");
+  // A FIFO or device would block or never end: only regular files are read.
+  if (!std::filesystem::is_regular_file(status)) fail(path, "not a regular file");
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
   {
     std::ifstream probe(path, std::ios::binary);
-    if (!probe) fail(path, "cannot open for reading");
-    if (probe.peek() == std::ifstream::traits_type::eof()) {
+    if (ec || !probe) fail(path, "cannot open for reading");
+    if (size == 0 || probe.peek() == std::ifstream::traits_type::eof()) {
       fail(path, "empty file (0 bytes); untangle needs surface meshes");
     }
   }
 
-  std::string extension = std::filesystem::path(path).extension().string();
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (extension == ".obj") return {read_obj(path, role)};
-  if (extension == ".off" && is_plain_off(path)) return {read_off(path, role)};
-
-  Assimp::Importer importer;
-  // No joining, no pre-transforming, no triangulation by assimp: vertex order stays as in the
-  // file and polygons are fanned here, so every triangle knows its source face.
-  const aiScene* scene = importer.ReadFile(path, aiProcess_ValidateDataStructure);
-  if (scene == nullptr) {
-    std::string why = one_line(importer.GetErrorString());
-    if (why.find("contains no faces") != std::string::npos) {
-      fail(path, "no triangles (0 faces); untangle needs surface meshes");
-    }
-    if (why.empty()) why = "unknown error";
-    fail(path, "cannot read mesh: " + why);
-  }
-  if (scene->mRootNode == nullptr) fail(path, "no scene graph in the file");
-
+  const std::string extension = lower(std::filesystem::path(path).extension().string());
   std::vector<Mesh> meshes;
-  collect(*scene, *scene->mRootNode, aiMatrix4x4(), path, role, meshes);
-  if (meshes.empty()) {
-    std::size_t faces = 0;
-    for (unsigned m = 0; m < scene->mNumMeshes; ++m) faces += scene->mMeshes[m]->mNumFaces;
-    fail(path, "no triangles (" + std::to_string(faces) +
-                   " faces, all points or lines); untangle needs surface meshes");
+  try {
+    if (extension == ".obj") {
+      meshes.push_back(read_obj(path, role));
+    } else if (extension == ".off" && is_plain_off(path)) {
+      meshes.push_back(read_off(path, role));
+    } else {
+      meshes = read_with_assimp(path, role, extension, size);
+    }
+  } catch (const std::bad_alloc&) {
+    fail(path, kTooManyElements);
+  } catch (const std::length_error&) {
+    fail(path, kTooManyElements);
+  }
+  for (Mesh& mesh : meshes) {
+    mesh.name = valid_utf8(mesh.name);
+    for (std::string& group : mesh.group_names) group = valid_utf8(group);
   }
   return meshes;
 }

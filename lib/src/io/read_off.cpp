@@ -4,7 +4,6 @@
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string_view>
@@ -23,39 +22,52 @@ std::string load(const std::string& path, ExitCode code) {
   return s.str();
 }
 
-// The file as lines of tokens, comments and blank lines dropped; each keeps its byte range.
+// One line of tokens, comments dropped, with the byte offset just past each token.
 struct Line {
   std::size_t number = 0;
-  std::size_t begin = 0, end = 0;  // bytes of the line, newline excluded
   std::vector<std::string_view> tokens;
-  std::vector<std::size_t> token_end;  // byte offset just past each token
+  std::vector<std::size_t> token_end;
 };
 
-std::vector<Line> split(const std::string& text) {
-  std::vector<Line> lines;
-  std::size_t pos = 0, number = 0;
-  while (pos < text.size()) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string::npos) end = text.size();
-    ++number;
-    Line line;
-    line.number = number;
-    line.begin = pos;
-    line.end = end;
-    std::size_t k = pos;
-    while (k < end && text[k] != '#') {
-      while (k < end && (text[k] == ' ' || text[k] == '\t' || text[k] == '\r')) ++k;
-      if (k >= end || text[k] == '#') break;
-      const std::size_t start = k;
-      while (k < end && text[k] != ' ' && text[k] != '\t' && text[k] != '\r' && text[k] != '#') ++k;
-      line.tokens.emplace_back(text.data() + start, k - start);
-      line.token_end.push_back(k);
+// Walks the text one line at a time, skipping blank and comment-only lines. Nothing is kept for
+// lines already passed, so memory stays proportional to the file size, not to its line count
+// (a file of a billion two-byte lines must not cost a billion line records).
+class LineReader {
+ public:
+  explicit LineReader(const std::string& text) : text_(text) {}
+
+  // The next line with at least one token, or false at the end of the text.
+  bool next(Line& line) {
+    while (pos_ < text_.size()) {
+      std::size_t end = text_.find('\n', pos_);
+      if (end == std::string::npos) end = text_.size();
+      ++number_;
+      line.number = number_;
+      line.tokens.clear();
+      line.token_end.clear();
+      std::size_t k = pos_;
+      while (k < end && text_[k] != '#') {
+        while (k < end && (text_[k] == ' ' || text_[k] == '\t' || text_[k] == '\r')) ++k;
+        if (k >= end || text_[k] == '#') break;
+        const std::size_t start = k;
+        while (k < end && text_[k] != ' ' && text_[k] != '\t' && text_[k] != '\r' && text_[k] != '#')
+          ++k;
+        line.tokens.emplace_back(text_.data() + start, k - start);
+        line.token_end.push_back(k);
+      }
+      pos_ = end + 1;
+      if (!line.tokens.empty()) return true;
     }
-    if (!line.tokens.empty()) lines.push_back(std::move(line));
-    pos = end + 1;
+    return false;
   }
-  return lines;
-}
+
+  // The number of the last line looked at (1-based; 0 before the first).
+  std::size_t line_number() const { return number_; }
+
+ private:
+  const std::string& text_;
+  std::size_t pos_ = 0, number_ = 0;
+};
 
 template <class T>
 bool parse(std::string_view token, T& value) {
@@ -64,76 +76,92 @@ bool parse(std::string_view token, T& value) {
   return ec == std::errc() && end == token.data() + token.size();
 }
 
-// Header and counts; returns the index of the first vertex line.
-std::size_t parse_header(const std::vector<Line>& lines, const std::string& path, std::size_t bytes,
-                         std::size_t& vertices, std::size_t& faces) {
-  auto fail = [&](std::size_t n, const std::string& m) -> std::size_t {
-    throw Error(ExitCode::kUnreadableInput, path, "line " + std::to_string(n) + ": " + m);
-  };
-  if (lines.empty() || lines[0].tokens[0] != "OFF") return fail(1, "not an OFF file");
-  std::size_t at = 0;
-  std::vector<std::string_view> counts(lines[0].tokens.begin() + 1, lines[0].tokens.end());
+[[noreturn]] void fail_at(ExitCode code, const std::string& path, std::size_t line,
+                          const std::string& message) {
+  throw Error(code, path, "line " + std::to_string(line) + ": " + message);
+}
+
+// Reads the header and the element counts; the reader is left before the first vertex line.
+void parse_header(LineReader& reader, const std::string& path, ExitCode code, std::size_t bytes,
+                  std::size_t& vertices, std::size_t& faces) {
+  Line line;
+  if (!reader.next(line) || line.tokens[0] != "OFF") fail_at(code, path, 1, "not an OFF file");
+  std::vector<std::string_view> counts(line.tokens.begin() + 1, line.tokens.end());
   if (counts.empty()) {
-    if (lines.size() < 2) return fail(lines[0].number, "missing element counts");
-    at = 1;
-    counts = lines[1].tokens;
+    if (!reader.next(line)) fail_at(code, path, reader.line_number(), "missing element counts");
+    counts = line.tokens;
   }
-  long long nv = 0, nf = 0;
-  if (counts.size() < 2 || !parse(counts[0], nv) || !parse(counts[1], nf) || nv < 0 || nf < 0)
-    return fail(lines[at].number, "malformed element counts");
-  // Every element needs a line of at least a few bytes: larger counts cannot be in this file.
-  if (static_cast<unsigned long long>(nv) + static_cast<unsigned long long>(nf) > bytes / 2)
-    return fail(lines[at].number, "header claims " + std::to_string(nv) + " vertices and " +
-                                      std::to_string(nf) + " faces, more than the file can hold");
+  unsigned long long nv = 0, nf = 0;
+  if (counts.size() < 2 || !parse(counts[0], nv) || !parse(counts[1], nf))
+    fail_at(code, path, line.number, "malformed element counts");
+  // Before anything is allocated: a vertex line holds at least "0 0 0" and a newline, a face
+  // line at least one number and a newline (the last line may lack its newline). Larger counts
+  // cannot be in this file, whatever it holds.
+  if (nv > bytes || nf > bytes || 6 * nv + 2 * nf > bytes + 1)
+    fail_at(code, path, line.number,
+            "header claims " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                " faces, more than the file (" + std::to_string(bytes) + " bytes) can hold");
   vertices = static_cast<std::size_t>(nv);
   faces = static_cast<std::size_t>(nf);
-  if (lines.size() < at + 1 + vertices + faces)
-    return fail(lines.back().number, "file ends early (truncated?)");
-  return at + 1;
+}
+
+// The next element line, or an error naming the last line read when the file ends early.
+void next_element(LineReader& reader, Line& line, const std::string& path, ExitCode code) {
+  if (!reader.next(line)) fail_at(code, path, reader.line_number(), "file ends early (truncated?)");
 }
 
 }  // namespace
 
 bool is_plain_off(const std::string& path) {
+  // Only the first word matters: read it byte by byte rather than as a string of unbounded size
+  // (a large file without whitespace must not be loaded whole just to be told apart).
   std::ifstream in(path, std::ios::binary);
-  std::string word;
-  in >> word;
-  return word == "OFF";
+  char c = 0;
+  while (in.get(c) && (c == ' ' || c == '\t' || c == '\r' || c == '\n')) {
+  }
+  if (!in || c != 'O') return false;
+  if (!in.get(c) || c != 'F') return false;
+  if (!in.get(c) || c != 'F') return false;
+  return !in.get(c) || c == ' ' || c == '\t' || c == '\r' || c == '\n';
 }
 
 Mesh read_off(const std::string& path, Role role) {
-  const std::string text = load(path, ExitCode::kUnreadableInput);
-  const std::vector<Line> lines = split(text);
+  constexpr ExitCode kCode = ExitCode::kUnreadableInput;
+  const std::string text = load(path, kCode);
+  LineReader reader(text);
   std::size_t nv = 0, nf = 0;
-  const std::size_t first = parse_header(lines, path, text.size(), nv, nf);
-  auto fail = [&](std::size_t n, const std::string& m) {
-    throw Error(ExitCode::kUnreadableInput, path, "line " + std::to_string(n) + ": " + m);
-  };
+  parse_header(reader, path, kCode, text.size(), nv, nf);
   Mesh mesh;
   mesh.path = path;
   mesh.role = role;
   mesh.positions.reserve(nv);
+  Line line;
   for (std::size_t i = 0; i < nv; ++i) {
-    const Line& line = lines[first + i];
+    next_element(reader, line, path, kCode);
     Vec3 p{};
-    if (line.tokens.size() < 3) fail(line.number, "malformed vertex");
+    if (line.tokens.size() < 3) fail_at(kCode, path, line.number, "malformed vertex");
     for (int k = 0; k < 3; ++k) {
-      if (!parse(line.tokens[k], p[k])) fail(line.number, "malformed vertex");
-      if (!std::isfinite(p[k])) fail(line.number, "vertex has a NaN or infinite coordinate");
+      if (!parse(line.tokens[k], p[k])) fail_at(kCode, path, line.number, "malformed vertex");
+      if (!std::isfinite(p[k]))
+        fail_at(kCode, path, line.number, "vertex has a NaN or infinite coordinate");
     }
     mesh.positions.push_back(p);
   }
+  std::vector<std::uint32_t> corners;
   for (std::size_t f = 0; f < nf; ++f) {
-    const Line& line = lines[first + nv + f];
+    next_element(reader, line, path, kCode);
     std::size_t count = 0;
-    if (!parse(line.tokens[0], count) || line.tokens.size() < count + 1) fail(line.number, "malformed face");
-    std::vector<std::uint32_t> corners(count);
+    // The corner count is checked against the tokens present before anything is sized by it.
+    if (!parse(line.tokens[0], count) || count > line.tokens.size() - 1)
+      fail_at(kCode, path, line.number, "malformed face");
+    corners.resize(count);
     for (std::size_t c = 0; c < count; ++c) {
       long long index = 0;
-      if (!parse(line.tokens[c + 1], index)) fail(line.number, "malformed face");
-      if (index < 0 || static_cast<std::size_t>(index) >= nv)
-        fail(line.number, "face refers to vertex " + std::to_string(index) + " but the file has " +
-                              std::to_string(nv) + " vertices");
+      if (!parse(line.tokens[c + 1], index)) fail_at(kCode, path, line.number, "malformed face");
+      if (index < 0 || static_cast<unsigned long long>(index) >= nv)
+        fail_at(kCode, path, line.number,
+                "face refers to vertex " + std::to_string(index) + " but the file has " +
+                    std::to_string(nv) + " vertices");
       corners[c] = static_cast<std::uint32_t>(index);
     }
     for (std::size_t c = 2; c < count; ++c) {
@@ -143,26 +171,24 @@ Mesh read_off(const std::string& path, Role role) {
   }
   mesh.source_faces = nf;
   if (mesh.triangles.empty())
-    throw Error(ExitCode::kUnreadableInput, path,
+    throw Error(kCode, path,
                 "no triangles (" + std::to_string(nf) + " faces); untangle needs surface meshes");
   return mesh;
 }
 
 std::string rewrite_off(const std::string& input, const Mesh& mesh) {
-  const std::string text = load(input, ExitCode::kOutputNotWritten);
-  const std::vector<Line> lines = split(text);
+  constexpr ExitCode kCode = ExitCode::kOutputNotWritten;
+  const std::string text = load(input, kCode);
+  LineReader reader(text);
   std::size_t nv = 0, nf = 0;
-  std::size_t first = 0;
-  try {
-    first = parse_header(lines, input, text.size(), nv, nf);
-  } catch (const Error& e) {
-    throw Error(ExitCode::kOutputNotWritten, input, e.what());
-  }
-  if (nv != mesh.positions.size()) throw Error(ExitCode::kOutputNotWritten, input, "vertex count changed");
+  parse_header(reader, input, kCode, text.size(), nv, nf);
+  if (nv != mesh.positions.size()) throw Error(kCode, input, "vertex count changed");
   std::string out;
   std::size_t copied = 0;
+  Line line;
   for (std::size_t i = 0; i < nv; ++i) {
-    const Line& line = lines[first + i];
+    next_element(reader, line, input, kCode);
+    if (line.tokens.size() < 3) fail_at(kCode, input, line.number, "malformed vertex");
     Vec3 old{};
     for (int k = 0; k < 3; ++k) parse(line.tokens[k], old[k]);
     if (old == mesh.positions[i]) continue;
@@ -170,7 +196,8 @@ std::string rewrite_off(const std::string& input, const Mesh& mesh) {
     out.append(text, copied, start - copied);
     for (int k = 0; k < 3; ++k) {
       std::array<char, 32> buffer{};
-      const auto r = std::to_chars(buffer.data(), buffer.data() + buffer.size(), mesh.positions[i][k]);
+      const auto r =
+          std::to_chars(buffer.data(), buffer.data() + buffer.size(), mesh.positions[i][k]);
       if (k > 0) out += ' ';
       out.append(buffer.data(), r.ptr);
     }

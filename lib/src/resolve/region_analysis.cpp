@@ -100,14 +100,7 @@ RegionAnalysis analyse_regions(const SceneTopology& topo, const CrossingSet& set
           if (topo.vertex_component[topo.edges[edge][0]] == component) crossed.push_back(edge);
         }
       }
-      std::sort(crossed.begin(), crossed.end());
-      std::vector<std::uint32_t> odd;
-      for (std::size_t i = 0; i < crossed.size();) {
-        std::size_t j = i;
-        while (j < crossed.size() && crossed[j] == crossed[i]) ++j;
-        if ((j - i) % 2 == 1) odd.push_back(crossed[i]);
-        i = j;
-      }
+      const std::vector<std::uint32_t> odd = odd_edges(crossed);
       if (odd.empty()) continue;
       for (std::uint32_t e : odd) cut[e] = 1;
       const std::size_t region_count = flood_regions(topo, mesh, cut, region);
