@@ -217,8 +217,13 @@ std::vector<std::string> plan_outputs(const CommonOptions& o) {
     };
     if (ext(o.inputs[k]) == ".obj" && ext(out) != ".obj")
       refuse(out, "an OBJ input is written as OBJ (its lines are kept as they are)");
-    if (ext(out) == ".off" && ext(o.inputs[k]) != ".off")
-      refuse(out, "OFF is written only from an OFF input (its lines are kept as they are)");
+    if (ext(out) == ".off") {
+      std::ifstream in(o.inputs[k]);
+      std::string keyword;
+      in >> keyword;
+      if (ext(o.inputs[k]) != ".off" || keyword != "OFF")
+        refuse(out, "OFF is written only from a plain OFF input (its lines are kept as they are)");
+    }
   }
   return outputs;
 }

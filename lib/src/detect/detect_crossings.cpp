@@ -1,4 +1,4 @@
-// Detection: CGAL box intersection for candidate pairs, exact perturbed predicates for crossings.
+// Detection: bounding-volume hierarchies for candidate pairs, exact perturbed predicates for crossings.
 #include "detect/detect_crossings.h"
 
 #include <tbb/blocked_range.h>
