@@ -231,19 +231,12 @@ class Solver {
 
     std::vector<std::uint8_t> in_moving_set(topo_.points.size(), 0);
     if (options_.method == FixMethod::kRegion) {
-      std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;
+      std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;  // movable partners, this step
       for (const IllegalSet* s : moving) {
-        auto& tree = trees[s->partner];
-        if (!tree) {
-          std::vector<std::uint32_t> tris;
-          const std::uint32_t m = topo_.component_mesh[s->partner];
-          for (std::uint32_t t = topo_.mesh_tri_begin[m]; t < topo_.mesh_tri_begin[m + 1]; ++t)
-            if (topo_.tri_component(t) == s->partner) tris.push_back(t);
-          tree = build_tree(topo_, tris);
-        }
+        const MeshTree& tree = component_tree(s->partner, trees);
         for (std::uint32_t v : s->vertices) in_moving_set[v] = 1;
         move_regions(topo_.component_mesh[s->component], region_settings_.orientation[s->partner],
-                     s->vertices, *tree, moves);
+                     s->vertices, tree, moves);
       }
       for (const TracedContour& t : traced) self_contour_move(set, t, analysis, in_moving_set, moves);
       separate_coincident_layers(set, traced, analysis, in_moving_set, moves);
@@ -266,6 +259,22 @@ class Solver {
     }
 
     return apply(moves);
+  }
+
+  // The closest-point tree of a whole component: kept for the run when the component is an
+  // obstacle (it never moves), built into `fresh` for this step otherwise.
+  const MeshTree& component_tree(std::uint32_t component,
+                                 std::map<std::uint32_t, std::unique_ptr<MeshTree>>& fresh) {
+    const bool fixed = meshes_[topo_.component_mesh[component]].role == Role::kObstacle;
+    std::unique_ptr<MeshTree>& tree = fixed ? obstacle_trees_[component] : fresh[component];
+    if (!tree) {
+      std::vector<std::uint32_t> tris;
+      const std::uint32_t m = topo_.component_mesh[component];
+      for (std::uint32_t t = topo_.mesh_tri_begin[m]; t < topo_.mesh_tri_begin[m + 1]; ++t)
+        if (topo_.tri_component(t) == component) tris.push_back(t);
+      tree = build_tree(topo_, tris);
+    }
+    return *tree;
   }
 
   // Two components that cross but where neither side has an illegal region (a garment and an
@@ -304,11 +313,8 @@ class Solver {
       const std::uint32_t mover = b_movable ? b : a;
       const std::uint32_t other = mover == b ? a : b;
       const std::uint32_t mesh = topo_.component_mesh[mover];
-      std::vector<std::uint32_t> tris;
-      const std::uint32_t om = topo_.component_mesh[other];
-      for (std::uint32_t t = topo_.mesh_tri_begin[om]; t < topo_.mesh_tri_begin[om + 1]; ++t)
-        if (topo_.tri_component(t) == other) tris.push_back(t);
-      const std::unique_ptr<MeshTree> tree = build_tree(topo_, tris);
+      std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;
+      const MeshTree* tree = &component_tree(other, trees);
       if (tree->triangles.empty()) continue;
       const double near = 0.5 * mean_edge_[mesh];
       const double clearance = options_.clearance * mean_edge_[mesh];
@@ -764,6 +770,7 @@ class Solver {
   std::vector<Vec3> start_points_;
   std::vector<Vec3> best_points_;
   std::unique_ptr<TriangleBvh> obstacle_bvh_;
+  std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
 };
 
 }  // namespace
