@@ -598,7 +598,6 @@ class Solver {
     };
     for (std::size_t i = 0; i < n; ++i) {
       const RawCrossing& x = set.items[c.crossings[i]];
-      const std::uint32_t p_mesh = topo_.edge_mesh(x.edge);
       const std::uint32_t q_mesh = topo_.tri_mesh[x.face];
       const std::uint32_t a = topo_.edges[x.edge][0], b = topo_.edges[x.edge][1];
       const auto& f = topo_.tris[x.face];
