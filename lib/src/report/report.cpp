@@ -89,7 +89,7 @@ std::string info_report_json(const std::vector<Mesh>& meshes, const std::vector<
     list.push_back(m);
   }
   j["meshes"] = list;
-  return j.dump(2) + "\n";
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
@@ -111,7 +111,7 @@ std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector
   t["contours"] = timings.contours;
   t["total"] = timings.total;
   j["timing_ms"] = t;
-  return j.dump(2) + "\n";
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
@@ -168,7 +168,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   t["verify"] = timings.verify;
   t["total"] = timings.total;
   j["timing_ms"] = t;
-  return j.dump(2) + "\n";
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::string contours_obj(const Intersections& found) {
