@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "scenes/scenes.h"
+#include "scene_files.h"
 #include "test_support.h"
 
 namespace untangle {
@@ -35,30 +36,8 @@ scenes::Scene scene_named(const std::string& name) {
   return {};
 }
 
-// A scene written as OBJ files, one per mesh, under a folder.
-struct Files {
-  std::vector<std::string> movable, obstacles;
-  std::string inputs_args() const {
-    std::string args;
-    for (const auto& m : movable) args += " " + quote(m);
-    for (const auto& o : obstacles) args += " --obstacle " + quote(o);
-    return args;
-  }
-};
-
-Files write_scene(const scenes::Scene& scene, const std::string& folder) {
-  std::filesystem::create_directories(folder);
-  Files files;
-  for (std::size_t i = 0; i < scene.movable.size(); ++i) {
-    files.movable.push_back(folder + "/movable_" + std::to_string(i) + ".obj");
-    scenes::write_obj(scene.movable[i], files.movable.back());
-  }
-  for (std::size_t i = 0; i < scene.obstacles.size(); ++i) {
-    files.obstacles.push_back(folder + "/obstacle_" + std::to_string(i) + ".obj");
-    scenes::write_obj(scene.obstacles[i], files.obstacles.back());
-  }
-  return files;
-}
+using Files = testing::SceneFiles;
+using testing::write_scene;
 
 // "" when equal, else the first line where the texts differ (the files are too long to print).
 std::string first_difference(const std::string& a, const std::string& b) {

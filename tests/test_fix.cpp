@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "scenes/scenes.h"
+#include "scene_files.h"
 #include "test_support.h"
 #include "untangle/intersections.h"
 #include "untangle/read_meshes.h"
@@ -26,29 +27,8 @@ using testing::run_cli;
 using testing::TempDir;
 using testing::write_text;
 
-// A scene written to files, with the command-line arguments to fix it.
-struct Files {
-  std::vector<std::string> movable, obstacles;
-  std::string inputs_args() const {
-    std::string args;
-    for (const auto& m : movable) args += " " + quote(m);
-    for (const auto& o : obstacles) args += " --obstacle " + quote(o);
-    return args;
-  }
-};
-
-Files write_scene(const scenes::Scene& scene, const TempDir& dir) {
-  Files files;
-  for (std::size_t i = 0; i < scene.movable.size(); ++i) {
-    files.movable.push_back(dir.file("movable_" + std::to_string(i) + ".obj"));
-    scenes::write_obj(scene.movable[i], files.movable.back());
-  }
-  for (std::size_t i = 0; i < scene.obstacles.size(); ++i) {
-    files.obstacles.push_back(dir.file("obstacle_" + std::to_string(i) + ".obj"));
-    scenes::write_obj(scene.obstacles[i], files.obstacles.back());
-  }
-  return files;
-}
+using Files = testing::SceneFiles;
+using testing::write_scene;
 
 // Crossings among the written outputs and the obstacles (obstacle pairs left out, as fix does).
 IntersectionCounts detect_on_files(const std::vector<std::string>& movable,
@@ -321,8 +301,12 @@ TEST_P(FixFormat, KeepsTopologyUvsAndNormals) {
     ASSERT_EQ(x.HasTextureCoords(0), y.HasTextureCoords(0));
     ASSERT_EQ(x.HasNormals(), y.HasNormals());
     for (unsigned v = 0; v < x.mNumVertices; ++v) {
-      if (x.HasTextureCoords(0)) EXPECT_EQ(x.mTextureCoords[0][v], y.mTextureCoords[0][v]);
-      if (x.HasNormals()) EXPECT_EQ(x.mNormals[v], y.mNormals[v]);
+      if (x.HasTextureCoords(0)) {
+        EXPECT_EQ(x.mTextureCoords[0][v], y.mTextureCoords[0][v]);
+      }
+      if (x.HasNormals()) {
+        EXPECT_EQ(x.mNormals[v], y.mNormals[v]);
+      }
       moved += x.mVertices[v] != y.mVertices[v] ? 1 : 0;
     }
   }
@@ -368,7 +352,9 @@ TEST(Fix, PinnedVerticesDoNotMove) {
   std::size_t vertex = 0;
   for (std::size_t i = 0; i < in.size(); ++i) {
     if (in[i].rfind("v ", 0) != 0) continue;
-    if (vertex % 3 == 0) EXPECT_EQ(in[i], out[i]) << "pinned vertex " << vertex;
+    if (vertex % 3 == 0) {
+      EXPECT_EQ(in[i], out[i]) << "pinned vertex " << vertex;
+    }
     ++vertex;
   }
 }
