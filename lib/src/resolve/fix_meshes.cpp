@@ -772,14 +772,101 @@ class Solver {
   std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
 };
 
+
+// The solver sums moves, averages and breaks ties in index order, so its floating-point result
+// depends on the order of vertices and faces in the file. It therefore runs on a canonical
+// renumbering of every mesh: vertices sorted by position (exact duplicates, which weld into one
+// vertex and move together, by input index), each triangle rotated to start at its smallest
+// canonical corner (orientation kept) and triangles sorted by corners. The same geometry in any
+// vertex or face order then gives the same positions, bit for bit (tests/test_determinism.cpp).
+struct CanonicalMesh {
+  std::vector<std::uint32_t> vertex_order;  // canonical index -> input index
+  Mesh mesh;
+};
+
+CanonicalMesh canonical(const Mesh& input) {
+  CanonicalMesh out;
+  const std::size_t nv = input.positions.size();
+  out.vertex_order.resize(nv);
+  for (std::uint32_t i = 0; i < nv; ++i) out.vertex_order[i] = i;
+  std::sort(out.vertex_order.begin(), out.vertex_order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3& pa = input.positions[a];
+    const Vec3& pb = input.positions[b];
+    return pa != pb ? pa < pb : a < b;
+  });
+  std::vector<std::uint32_t> rank(nv);
+  for (std::uint32_t k = 0; k < nv; ++k) rank[out.vertex_order[k]] = k;
+
+  const std::size_t nt = input.triangles.size();
+  std::vector<Triangle> rotated(nt);
+  for (std::size_t t = 0; t < nt; ++t) {
+    Triangle tri{};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = input.triangles[t][k];
+      tri[k] = v < nv ? rank[v] : v;  // out-of-range indices are the reader's to refuse
+    }
+    const int first = static_cast<int>(std::min_element(tri.begin(), tri.end()) - tri.begin());
+    std::rotate(tri.begin(), tri.begin() + first, tri.end());
+    rotated[t] = tri;
+  }
+  std::vector<std::uint32_t> tri_order(nt);
+  for (std::uint32_t t = 0; t < nt; ++t) tri_order[t] = t;
+  std::sort(tri_order.begin(), tri_order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return rotated[a] != rotated[b] ? rotated[a] < rotated[b] : a < b;
+  });
+
+  out.mesh.path = input.path;
+  out.mesh.name = input.name;
+  out.mesh.role = input.role;
+  out.mesh.source_faces = input.source_faces;
+  out.mesh.group_names = input.group_names;
+  out.mesh.positions.reserve(nv);
+  for (std::uint32_t i : out.vertex_order) out.mesh.positions.push_back(input.positions[i]);
+  out.mesh.triangles.reserve(nt);
+  for (std::uint32_t t : tri_order) {
+    out.mesh.triangles.push_back(rotated[t]);
+    if (t < input.polygon.size()) out.mesh.polygon.push_back(input.polygon[t]);
+    if (t < input.triangle_group.size()) out.mesh.triangle_group.push_back(input.triangle_group[t]);
+  }
+  return out;
+}
+
 }  // namespace
 
 const char* to_string(FixMethod method) { return method == FixMethod::kRegion ? "region" : "paper"; }
 
 FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                      const std::function<Vec3(const Vec3&)>& round, const FixProgress& progress) {
-  Solver solver(meshes, options, pins, round);
-  return solver.run(progress);
+  std::vector<CanonicalMesh> renumbered;
+  renumbered.reserve(meshes.size());
+  for (const Mesh& mesh : meshes) renumbered.push_back(canonical(mesh));
+  std::vector<Mesh> work;
+  work.reserve(meshes.size());
+  PinMask work_pins(pins.size());
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    work.push_back(std::move(renumbered[m].mesh));
+    if (m < pins.size() && !pins[m].empty()) {
+      const auto& order = renumbered[m].vertex_order;
+      work_pins[m].assign(order.size(), 0);
+      for (std::size_t k = 0; k < order.size(); ++k)
+        if (order[k] < pins[m].size()) work_pins[m][k] = pins[m][order[k]];
+    }
+  }
+
+  FixResult result = Solver(work, options, work_pins, round).run(progress);
+
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    const auto& order = renumbered[m].vertex_order;
+    for (std::size_t k = 0; k < order.size(); ++k) meshes[m].positions[order[k]] = work[m].positions[k];
+  }
+  // What is left, in the caller's numbering (the report and --contours name input indices).
+  if (!result.clean) {
+    DetectOptions detect;
+    detect.threads = options.threads;
+    detect.skip_obstacle_pairs = true;
+    result.remaining = find_intersections(meshes, detect);
+  }
+  return result;
 }
 
 }  // namespace untangle
