@@ -584,6 +584,39 @@ TEST(HostileInput, GltfReuseAndImplicitDataAreBounded) {
 }
 
 // `fix` reads everything before it writes anything: a bad input leaves no file behind.
+// A face that names a vertex the file does not have is an error in every format, also where
+// assimp drops the face and only logs it (glTF 2, COFF): read as clean, the mesh would have a hole.
+TEST(HostileInput, FaceIndicesOutOfRangeFailInEveryFormat) {
+  TempDir dir;
+  const std::string four_vertices = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  std::string buffer = gltf_buffer();
+  buffer[48 + 2 * 5] = 99;  // the last corner of the second face: vertex 99 of 4
+  const std::vector<std::pair<std::string, std::string>> files = {
+      {"range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 99\n"},
+      {"range.off", "OFF\n4 2 0\n" + four_vertices + "3 0 1 2\n3 0 1 99\n"},
+      {"range_colour.off", "COFF\n4 2 0\n0 0 0 1 1 1 1\n1 0 0 1 1 1 1\n0 1 0 1 1 1 1\n"
+                           "0 0 1 1 1 1 1\n3 0 1 2\n3 0 1 99\n"},
+      {"range.ply", ply_header("ascii", 4, 2) + four_vertices + "3 0 1 2\n3 0 1 99\n"},
+      {"range.gltf",
+       gltf_document("data:application/octet-stream;base64," + base64(buffer)).dump()},
+  };
+  std::vector<Case> cases;
+  std::vector<std::string> args;
+  for (const auto& [name, bytes] : files) {
+    cases.push_back({dir.file(name), name});
+    write_text(cases.back().path, bytes);
+    args.push_back("check " + quote(cases.back().path));
+  }
+  const std::vector<Outcome> outcomes = run_all(args, dir);
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    EXPECT_EQ(outcomes[i].exit_code, 3) << cases[i].what << ": " << outcomes[i].err;
+    EXPECT_EQ(problem(cases[i].path, outcomes[i]), "") << cases[i].what;
+    const std::string err = outcomes[i].err;
+    EXPECT_TRUE(err.find("range") != std::string::npos || err.find("refers to vertex") != std::string::npos)
+        << cases[i].what << ": " << err;
+  }
+}
+
 TEST(HostileInput, FixOnBadInputLeavesNothingBehind) {
   TempDir dir;
   const std::vector<Bomb> all = bombs();

@@ -6,7 +6,9 @@
 #include <pthread.h>
 
 #include <algorithm>
+#include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -149,6 +151,58 @@ std::string lower(std::string text) {
   for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return text;
 }
+
+// Some importers drop faces they cannot use and only log it (glTF 2: "Some faces had out-of-range
+// indices. Those faces were dropped."): the mesh would then read as smaller than the file and could
+// check "clean" with a hole in it. assimp's logger is process-wide, so its warnings and errors go
+// to one stream that hands each message to the reader on the calling thread (importers log on the
+// thread that runs ReadFile).
+class ImporterMessages {
+ public:
+  ImporterMessages() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+      Assimp::DefaultLogger::create("", Assimp::Logger::NORMAL, 0);
+      Assimp::DefaultLogger::get()->attachStream(new Forward,
+                                                 Assimp::Logger::Warn | Assimp::Logger::Err);
+    });
+    current() = &messages_;
+  }
+  ~ImporterMessages() { current() = nullptr; }
+  ImporterMessages(const ImporterMessages&) = delete;
+  ImporterMessages& operator=(const ImporterMessages&) = delete;
+
+  // The first message that says faces were lost, or "".
+  std::string dropped_faces() const {
+    for (const std::string& m : messages_) {
+      const std::string l = lower(m);
+      if (l.find("out-of-range") != std::string::npos || l.find("out of range") != std::string::npos)
+        return m;
+    }
+    return "";
+  }
+
+ private:
+  struct Forward : Assimp::LogStream {
+    void write(const char* message) override {
+      std::vector<std::string>* sink = current();
+      if (sink == nullptr || sink->size() >= 64) return;
+      // assimp prefixes "Warn,  T0: " (severity and thread): keep only the words.
+      std::string text(message);
+      if (text.rfind("Warn,", 0) == 0 || text.rfind("Error,", 0) == 0) {
+        const std::size_t colon = text.find(": ");
+        if (colon != std::string::npos) text.erase(0, colon + 2);
+      }
+      sink->push_back(std::move(text));
+    }
+  };
+  static std::vector<std::string>*& current() {
+    thread_local std::vector<std::string>* sink = nullptr;
+    return sink;
+  }
+  std::vector<std::string> messages_;
+};
+
 
 template <class T>
 bool parse_number(std::string_view token, T& value) {
@@ -863,6 +917,7 @@ std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std
 
   const aiScene* scene = nullptr;
   std::string why;
+  ImporterMessages messages;
   {
     SilencedStreams silenced;
     try {
@@ -896,6 +951,8 @@ std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std
     fail(path, "cannot read mesh: " + why);
   }
   if (scene->mRootNode == nullptr) fail(path, "no scene graph in the file");
+  const std::string dropped = messages.dropped_faces();
+  if (!dropped.empty()) fail(path, "face indices out of range: " + one_line(dropped));
 
   check_instancing(*scene, path);
   std::vector<Mesh> meshes;
