@@ -23,6 +23,9 @@ Json mesh_entry(const Mesh& mesh, const MeshInfo& info) {
   j["vertices"] = info.vertices;
   j["faces"] = info.faces;
   j["boundary_loops"] = info.boundary_loops;
+  // Legal input, handled (dropped or decided symbolically), but worth knowing about.
+  j["degenerate_triangles"] = info.degenerate_triangles;
+  j["zero_area_triangles"] = info.zero_area_triangles;
   return j;
 }
 
