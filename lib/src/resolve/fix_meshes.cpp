@@ -135,6 +135,8 @@ class Solver {
     }
     region_settings_.orientation = closed_orientations(topo_);
     moved_.assign(nv, 0);
+    component_size_.assign(topo_.component_mesh.size(), 0);
+    for (std::uint32_t v = 0; v < nv; ++v) ++component_size_[topo_.vertex_component[v]];
     start_points_ = topo_.points;
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, settings_.skip_among);
     settings_.skipped_bvh = obstacle_bvh_.get();
@@ -240,6 +242,7 @@ class Solver {
       }
       for (const TracedContour& t : traced) self_contour_move(set, t, analysis, in_moving_set, moves);
       separate_coincident_layers(set, traced, analysis, in_moving_set, moves);
+      for (const TracedContour& t : traced) flap_move(set, t, trees, in_moving_set, moves);
     }
 
     // Per-crossing rule: every crossing (paper method), or those of contours that no moving
@@ -580,6 +583,133 @@ class Solver {
   }
 
   // Label of welded vertex v with respect to component `partner` (-1 undecided).
+  // A BI/BI contour between two components (two sheets overlapping at a corner, a sleeve's cuff
+  // through a hem) separates nothing, so no region holds its labels; the paper slides it toward the
+  // other mesh's boundary one small step per iteration, which takes about one iteration per
+  // crossing and, being a shear of both meshes, is sensitive to rounding. Here the contour's flap
+  // moves instead: on each side of the contour, the vertices next to it that lie on one side of the
+  // other surface and over it (their closest point on it is not on its boundary), grown from the
+  // crossing edges; of the (up to) four such flaps, the one with the least area moves across the
+  // other surface like a region. What remains near the boundary goes to the per-crossing rule.
+  void flap_move(const CrossingSet& set, const TracedContour& t,
+                 std::map<std::uint32_t, std::unique_ptr<MeshTree>>& trees,
+                 std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
+    const Contour& c = t.contour;
+    if (c.closed || c.tracks[0].type != TrackType::kBI || c.tracks[1].type != TrackType::kBI) return;
+    const std::uint32_t components[2] = {track_component(topo_, set, t, 0),
+                                         track_component(topo_, set, t, 1)};
+    if (components[0] == components[1]) return;
+    for (std::uint32_t ci : c.crossings) {
+      const RawCrossing& x = set.items[ci];
+      for (std::uint32_t v : topo_.edges[x.edge])
+        if (in_moving_set[v]) return;
+      for (std::uint32_t v : topo_.tris[x.face])
+        if (in_moving_set[v]) return;
+    }
+    struct Flap {
+      double area = INFINITY;
+      int track = -1;
+      std::vector<std::uint32_t> vertices;
+    };
+    Flap best;
+    for (int k = 0; k < 2; ++k) {
+      const std::uint32_t own = components[k], other = components[1 - k];
+      const std::uint32_t mesh = topo_.component_mesh[own];
+      if (meshes_[mesh].role != Role::kMovable) continue;
+      const MeshTree& tree = component_tree(other, trees);
+      if (tree.triangles.empty()) continue;
+      // Side of the other surface (+1, -1) where the vertex is over it, 0 where its closest point
+      // lies on the other surface's boundary (beyond it).
+      std::map<std::uint32_t, int> side;
+      auto side_of = [&](std::uint32_t v) {
+        const auto it = side.find(v);
+        if (it != side.end()) return it->second;
+        const Vec3& p = topo_.points[v];
+        const auto hit = tree.tree.closest_point_and_primitive(Kernel::Point_3(p[0], p[1], p[2]));
+        const std::uint32_t face =
+            tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
+        const auto& f = topo_.tris[face];
+        const Vec3 q{hit.first.x(), hit.first.y(), hit.first.z()};
+        int result = orient_sos(topo_.points, f[0], f[1], f[2], v);
+        for (int e = 0; e < 3 && result != 0; ++e) {
+          // Closest point on edge (f[e], f[e+1]) of the other surface's boundary: not over it.
+          const Vec3& a = topo_.points[f[e]];
+          const Vec3& b = topo_.points[f[(e + 1) % 3]];
+          const Vec3 ab = sub(b, a);
+          const double len2 = dot(ab, ab);
+          if (len2 == 0.0) continue;
+          const double along = std::clamp(dot(sub(q, a), ab) / len2, 0.0, 1.0);
+          const double off = norm(sub(q, add(a, scale(ab, along))));
+          if (off <= 1e-9 * std::sqrt(len2) &&
+              topo_.is_boundary(topo_.find_edge(f[e], f[(e + 1) % 3])))
+            result = 0;
+        }
+        side.emplace(v, result);
+        return result;
+      };
+      // Seeds: this component's corners of the contour's crossings.
+      std::vector<std::uint32_t> seeds;
+      for (std::uint32_t ci : c.crossings) {
+        const RawCrossing& x = set.items[ci];
+        if (topo_.vertex_component[topo_.edges[x.edge][0]] == own)
+          for (std::uint32_t v : topo_.edges[x.edge]) seeds.push_back(v);
+        if (topo_.tri_component(x.face) == own)
+          for (std::uint32_t v : topo_.tris[x.face]) seeds.push_back(v);
+      }
+      std::sort(seeds.begin(), seeds.end());
+      seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
+      // A flap is small next to its component: one that grows past a quarter of it is a side of
+      // the surface, not a flap.
+      const std::size_t component_size = component_size_[own];
+      const std::size_t limit = std::max<std::size_t>(16, component_size / 4);
+      for (int wanted : {1, -1}) {
+        std::vector<std::uint32_t> flap;
+        std::map<std::uint32_t, bool> seen;
+        for (std::uint32_t v : seeds) {
+          if (side_of(v) != wanted || seen.count(v)) continue;
+          seen[v] = true;
+          flap.push_back(v);
+        }
+        bool too_large = false;
+        for (std::size_t i = 0; i < flap.size() && !too_large; ++i) {
+          const std::uint32_t v = flap[i];
+          for (std::uint32_t e = topo_.vertex_edge_begin[v]; e < topo_.vertex_edge_begin[v + 1]; ++e) {
+            const auto& edge = topo_.edges[topo_.vertex_edges[e]];
+            const std::uint32_t w = edge[0] == v ? edge[1] : edge[0];
+            if (seen.count(w)) continue;
+            seen[w] = true;
+            if (side_of(w) != wanted) continue;
+            flap.push_back(w);
+            if (flap.size() > limit) {
+              too_large = true;
+              break;
+            }
+          }
+        }
+        if (too_large || flap.empty()) continue;
+        bool any_free = false;
+        double area = 0.0;
+        for (std::uint32_t v : flap) {
+          any_free = any_free || free_[v];
+          area += vertex_edge_[v] * vertex_edge_[v];
+        }
+        if (!any_free) continue;
+        if (area < best.area) {
+          best.area = area;
+          best.track = k;
+          std::sort(flap.begin(), flap.end());
+          best.vertices = std::move(flap);
+        }
+      }
+    }
+    if (best.track < 0) return;
+    const std::uint32_t own = components[best.track], other = components[1 - best.track];
+    const MeshTree& tree = component_tree(other, trees);
+    for (std::uint32_t v : best.vertices) in_moving_set[v] = 1;
+    move_regions(topo_.component_mesh[own], region_settings_.orientation[other], best.vertices, tree,
+                 moves);
+  }
+
   int label(const RegionAnalysis& analysis, std::uint32_t v, std::uint32_t partner) const {
     const std::uint32_t component = topo_.vertex_component[v];
     auto it = analysis.labels.find({component, partner});
@@ -768,6 +898,7 @@ class Solver {
   std::vector<double> vertex_edge_;
   std::vector<Vec3> start_points_;
   std::vector<Vec3> best_points_;
+  std::vector<std::size_t> component_size_;  // welded vertices per component
   std::unique_ptr<TriangleBvh> obstacle_bvh_;
   std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
 };
