@@ -185,6 +185,7 @@ class Solver {
       if (iteration >= options_.max_iterations) break;
       const bool moved = step(set, traced, result);
       result.resolve_ms += ms(t2, Clock::now());
+      result.displace_ms = result.resolve_ms - result.regions_ms;
       if (!moved) {
         result.stalled = true;
         break;
@@ -203,7 +204,9 @@ class Solver {
  private:
   // One displacement step. Returns false when nothing could move.
   bool step(const CrossingSet& set, const std::vector<TracedContour>& traced, FixResult& result) {
+    const auto regions_start = Clock::now();
     const RegionAnalysis analysis = analyse_regions(topo_, set, traced, region_settings_);
+    result.regions_ms += ms(regions_start, Clock::now());
     Moves moves(topo_.points.size());
 
     // Which illegal sets move: movable surfaces only; between two movable surfaces, the side with
