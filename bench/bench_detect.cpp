@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -121,11 +122,17 @@ std::string best_median(const Stat& s) {
 
 int main(int argc, char** argv) {
   bool quick = false;
+  int profile_runs = 0;  // --profile N: only our between-mesh detection at n = 81, N times
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
+    } else if (std::strcmp(argv[i], "--profile") == 0 && i + 1 < argc) {
+      profile_runs = std::max(1, std::atoi(argv[++i]));
     } else if (std::strcmp(argv[i], "-h") == 0 || std::strcmp(argv[i], "--help") == 0) {
-      std::printf("usage: %s [--quick]\n  --quick  only n = 81 with 3 repeats\n", argv[0]);
+      std::printf("usage: %s [--quick] [--profile N]\n  --quick  only n = 81 with 3 repeats\n"
+                  "  --profile N  only our detection between the meshes at n = 81, N times (for a "
+                  "profiler)\n",
+                  argv[0]);
       return 0;
     } else {
       std::fprintf(stderr, "error: unknown argument '%s' (usage: %s [--quick])\n", argv[i],
@@ -141,6 +148,14 @@ int main(int argc, char** argv) {
                  "(apt-get install libcgal-demo) and re-run cmake\n",
                  cow.empty() ? "" : " at ", cow.c_str());
     return 1;
+  }
+  if (profile_runs > 0) {
+    const untangle::scenes::Scene scene = untangle::scenes::sheet_through_cow(81);
+    const std::vector<untangle::Mesh> meshes = untangle::scenes::scene_meshes(scene);
+    const OursRun run = run_ours(meshes, 0, profile_runs, false);
+    std::printf("ours between, n = 81: total %s, prepared %s ms (best / median of %d)\n",
+                best_median(run.total).c_str(), best_median(run.prepared).c_str(), profile_runs);
+    return 0;
   }
   const std::vector<int> sizes = quick ? std::vector<int>{81}
                                        : std::vector<int>{41, 81, 121, 161, 201, 281};

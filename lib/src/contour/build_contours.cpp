@@ -286,11 +286,20 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
   }
 
   // Track types, cut edges and separation.
-  std::vector<double> vertex_area(topo.points.size(), 0.0);
-  for (const auto& tri : topo.tris) {
-    const double a = triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]);
-    for (std::uint32_t v : tri) vertex_area[v] += a / 3.0;
-  }
+  // A vertex's share of area: a third of each incident triangle. Each triangle at v is reached
+  // through its two edges at v, so each visit adds a sixth. Computed only for the vertices of a
+  // separated side, not for the whole scene.
+  auto vertex_area = [&](std::uint32_t v) {
+    double area = 0.0;
+    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+      const std::uint32_t e = topo.vertex_edges[i];
+      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
+        const auto& tri = topo.tris[topo.edge_faces[k]];
+        area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) / 6.0;
+      }
+    }
+    return area;
+  };
   std::vector<std::uint8_t> cut(topo.edges.size(), 0);
   std::vector<std::uint8_t> side_of(topo.points.size(), 0);
   for (TracedContour& traced : out) {
@@ -347,7 +356,7 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
       if (!met && finished >= 0) {
         track.separates = true;
         double area = 0.0;
-        for (std::uint32_t v : queue[finished]) area += vertex_area[v];
+        for (std::uint32_t v : queue[finished]) area += vertex_area(v);
         track.smaller_area = area;
       }
       for (int s = 0; s < 2; ++s)

@@ -184,12 +184,16 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
   const bool skipping = !settings.skip_among.empty();
   auto skipped = [&](std::size_t m) { return skipping && settings.skip_among[m]; };
   std::vector<std::unique_ptr<TriangleBvh>> per_mesh(meshes);
-  for (std::size_t m = 0; m < meshes; ++m) {
-    if (skipped(m) && settings.skipped_bvh != nullptr) continue;
-    std::vector<bool> only(meshes, false);
-    only[m] = true;
-    per_mesh[m] = std::make_unique<TriangleBvh>(topo, only);
-  }
+  // One hierarchy per mesh, built in parallel (each into its own slot: the same trees for every
+  // thread count).
+  run_parallel(settings.threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t m = begin; m < end; ++m) {
+      if (skipped(m) && settings.skipped_bvh != nullptr) continue;
+      std::vector<bool> only(meshes, false);
+      only[m] = true;
+      per_mesh[m] = std::make_unique<TriangleBvh>(topo, only);
+    }
+  });
   std::vector<std::array<std::uint32_t, 2>> pairs;
   auto add = [&](std::uint32_t t, std::uint32_t u) { pairs.push_back({std::min(t, u), std::max(t, u)}); };
   for (std::size_t a = 0; a < meshes; ++a) {

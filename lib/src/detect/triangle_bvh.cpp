@@ -22,58 +22,93 @@ Box3 triangle_box(const SceneTopology& topo, std::uint32_t t) {
 
 namespace {
 
-// Spreads the lower 21 bits of x to every third bit (for 63-bit Morton codes).
-std::uint64_t spread(std::uint64_t x) {
-  x &= 0x1fffff;
-  x = (x | x << 32) & 0x1f00000000ffffull;
-  x = (x | x << 16) & 0x1f0000ff0000ffull;
-  x = (x | x << 8) & 0x100f00f00f00f00full;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-  x = (x | x << 2) & 0x1249249249249249ull;
+// Spreads the lower 10 bits of x to every third bit (30-bit Morton codes).
+std::uint32_t spread(std::uint32_t x) {
+  x &= 0x3ff;
+  x = (x | x << 16) & 0x030000ff;
+  x = (x | x << 8) & 0x0300f00f;
+  x = (x | x << 4) & 0x030c30c3;
+  x = (x | x << 2) & 0x09249249;
   return x;
+}
+
+// Stable LSD radix sort of `order` by `code` (three passes of 10 bits): equal codes keep their
+// order, so the result is the order of (code, position) and deterministic.
+void sort_by_code(const std::vector<std::uint32_t>& code, std::vector<std::uint32_t>& order) {
+  std::vector<std::uint32_t> scratch(order.size());
+  for (int shift = 0; shift < 30; shift += 10) {
+    std::uint32_t count[1025] = {};
+    for (std::uint32_t i : order) ++count[((code[i] >> shift) & 1023u) + 1];
+    for (int k = 0; k < 1024; ++k) count[k + 1] += count[k];
+    for (std::uint32_t i : order) scratch[count[(code[i] >> shift) & 1023u]++] = i;
+    order.swap(scratch);
+  }
 }
 
 }  // namespace
 
 TriangleBvh::TriangleBvh(const SceneTopology& topo, const std::vector<bool>& include) {
+  // Triangles are stored mesh by mesh: only the ranges of included meshes are visited.
+  const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
+  std::size_t included = 0;
+  for (std::size_t m = 0; m < meshes; ++m)
+    if (include[m]) included += topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m];
   std::vector<std::uint32_t> tris;
   std::vector<Box3> boxes;
+  tris.reserve(included);
+  boxes.reserve(included);
   Box3 all;
-  for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
-    if (!include[topo.tri_mesh[t]]) continue;
-    const Box3 box = triangle_box(topo, t);
-    if (tris.empty()) all = box;
-    for (int a = 0; a < 3; ++a) {
-      all.lo[a] = std::min(all.lo[a], box.lo[a]);
-      all.hi[a] = std::max(all.hi[a], box.hi[a]);
+  for (std::size_t m = 0; m < meshes; ++m) {
+    if (!include[m]) continue;
+    for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) {
+      const Box3 box = triangle_box(topo, t);
+      all = tris.empty() ? box : merged(all, box);
+      tris.push_back(t);
+      boxes.push_back(box);
     }
-    tris.push_back(t);
-    boxes.push_back(box);
   }
   if (tris.empty()) return;
   // Order the triangles along a Morton curve of their box centres (ties by id): neighbours in the
   // order are neighbours in space, so halving ranges builds a sound hierarchy with a single sort.
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> keys(tris.size());
+  std::vector<std::uint32_t> code(tris.size()), order(tris.size());
   for (std::size_t i = 0; i < tris.size(); ++i) {
-    std::uint64_t code = 0;
+    std::uint32_t c = 0;
     for (int a = 0; a < 3; ++a) {
       const double extent = all.hi[a] - all.lo[a];
       const double centre = 0.5 * (boxes[i].lo[a] + boxes[i].hi[a]);
       const double unit = extent > 0.0 ? (centre - all.lo[a]) / extent : 0.0;
-      const auto cell = static_cast<std::uint64_t>(std::min(std::max(unit, 0.0), 1.0) * 2097151.0);
-      code |= spread(cell) << a;
+      const auto cell = static_cast<std::uint32_t>(std::min(std::max(unit, 0.0), 1.0) * 1023.0);
+      c |= spread(cell) << a;
     }
-    keys[i] = {code, static_cast<std::uint32_t>(i)};  // i follows the triangle id order
+    code[i] = c;
+    order[i] = static_cast<std::uint32_t>(i);  // i follows the triangle id order
   }
-  std::sort(keys.begin(), keys.end());
+  sort_by_code(code, order);
   triangles_.resize(tris.size());
   leaf_boxes_.resize(tris.size());
-  for (std::size_t i = 0; i < keys.size(); ++i) {
-    triangles_[i] = tris[keys[i].second];
-    leaf_boxes_[i] = boxes[keys[i].second];
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    triangles_[i] = tris[order[i]];
+    leaf_boxes_[i] = boxes[order[i]];
   }
-  nodes_.reserve(tris.size() / 2 + 1);
+  // A binary tree over leaves of 2 to 4 triangles has fewer than tris.size() nodes.
+  nodes_.reserve(tris.size());
   build(0, static_cast<std::uint32_t>(tris.size()));
+}
+
+void TriangleBvh::refit(const SceneTopology& topo) {
+  for (std::size_t i = 0; i < triangles_.size(); ++i) leaf_boxes_[i] = triangle_box(topo, triangles_[i]);
+  // Children come after their parent (pre-order build): one backward pass refits every node.
+  for (std::size_t n = nodes_.size(); n-- > 0;) {
+    Node& node = nodes_[n];
+    Box3 box;
+    if (node.count > 0) {
+      box = leaf_boxes_[node.first];
+      for (std::uint32_t i = node.first + 1; i < node.first + node.count; ++i) box = merged(box, leaf_boxes_[i]);
+    } else {
+      box = merged(nodes_[node.left].box, nodes_[node.right].box);
+    }
+    node.box = box;
+  }
 }
 
 std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
@@ -81,11 +116,7 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
   nodes_.emplace_back();
   if (count <= 4) {
     Box3 box = leaf_boxes_[first];
-    for (std::uint32_t i = first + 1; i < first + count; ++i)
-      for (int a = 0; a < 3; ++a) {
-        box.lo[a] = std::min(box.lo[a], leaf_boxes_[i].lo[a]);
-        box.hi[a] = std::max(box.hi[a], leaf_boxes_[i].hi[a]);
-      }
+    for (std::uint32_t i = first + 1; i < first + count; ++i) box = merged(box, leaf_boxes_[i]);
     nodes_[index].box = box;
     nodes_[index].first = first;
     nodes_[index].count = count;
@@ -94,12 +125,7 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
   const std::uint32_t half = count / 2;
   const std::uint32_t left = build(first, half);
   const std::uint32_t right = build(first + half, count - half);
-  Box3 box = nodes_[left].box;
-  for (int a = 0; a < 3; ++a) {
-    box.lo[a] = std::min(box.lo[a], nodes_[right].box.lo[a]);
-    box.hi[a] = std::max(box.hi[a], nodes_[right].box.hi[a]);
-  }
-  nodes_[index].box = box;
+  nodes_[index].box = merged(nodes_[left].box, nodes_[right].box);
   nodes_[index].left = left;
   nodes_[index].right = right;
   return index;

@@ -1,5 +1,6 @@
-// A bounding-volume hierarchy over triangles of meshes that do not move (obstacles): built once,
-// queried with the boxes of the moving triangles every iteration.
+// A bounding-volume hierarchy over the triangles of some meshes: leaves of 2 to 4 triangles in
+// Morton order of their box centres, ranges halved. Built once per mesh (obstacles never move;
+// movable meshes are refitted between iterations of fix).
 #pragma once
 
 #include <array>
@@ -21,10 +22,23 @@ struct Box3 {
 
 Box3 triangle_box(const SceneTopology& topology, std::uint32_t t);
 
+inline Box3 merged(const Box3& a, const Box3& b) {
+  Box3 out;
+  for (int k = 0; k < 3; ++k) {
+    out.lo[k] = a.lo[k] < b.lo[k] ? a.lo[k] : b.lo[k];
+    out.hi[k] = a.hi[k] > b.hi[k] ? a.hi[k] : b.hi[k];
+  }
+  return out;
+}
+
 class TriangleBvh {
  public:
   // Over the triangles whose mesh is flagged in `include`.
   TriangleBvh(const SceneTopology& topology, const std::vector<bool>& include);
+
+  // Recomputes every box from the current positions, keeping the tree (vertices moved a little:
+  // iterations of fix). Queries stay exact; only their speed depends on how far things moved.
+  void refit(const SceneTopology& topology);
 
   // Appends every indexed triangle whose box overlaps `box` (in no particular order).
   void query(const Box3& box, std::vector<std::uint32_t>& out) const;
