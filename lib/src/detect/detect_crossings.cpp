@@ -272,6 +272,118 @@ CrossingSet detect_crossings(const SceneTopology& topo, const DetectSettings& se
   return set;
 }
 
+SceneHierarchy::SceneHierarchy(const SceneTopology& topo, const DetectSettings& settings) {
+  const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
+  auto skipped = [&](std::size_t m) { return m < settings.skip_among.size() && settings.skip_among[m]; };
+  per_mesh_.resize(meshes);
+  moved_since_build_.assign(meshes, 0);
+  run_parallel(settings.threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t m = begin; m < end; ++m) {
+      if (skipped(m) && settings.skipped_bvh != nullptr) continue;  // queried through that one
+      std::vector<bool> only(meshes, false);
+      only[m] = true;
+      per_mesh_[m] = std::make_unique<TriangleBvh>(topo, only);
+    }
+  });
+}
+
+void SceneHierarchy::update(const SceneTopology& topo, const std::vector<std::uint8_t>& moved) {
+  const std::size_t meshes = per_mesh_.size();
+  std::vector<std::size_t> count(meshes, 0);
+  for (std::uint32_t v = 0; v < moved.size(); ++v)
+    if (moved[v]) ++count[topo.vertex_mesh[v]];
+  for (std::size_t m = 0; m < meshes; ++m) {
+    if (count[m] == 0 || !per_mesh_[m]) continue;
+    moved_since_build_[m] += count[m];
+    const std::size_t size = topo.mesh_vertex_begin[m + 1] - topo.mesh_vertex_begin[m];
+    if (4 * moved_since_build_[m] > size) {
+      std::vector<bool> only(meshes, false);
+      only[m] = true;
+      per_mesh_[m] = std::make_unique<TriangleBvh>(topo, only);
+      moved_since_build_[m] = 0;
+    } else {
+      per_mesh_[m]->refit(topo);
+    }
+  }
+}
+
+CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& settings,
+                             const SceneHierarchy& hierarchy, const CrossingSet& previous,
+                             const std::vector<std::uint8_t>& moved) {
+  // Triangles with a moved corner, found through the moved vertices' edges.
+  std::vector<std::uint8_t> affected(topo.tris.size(), 0);
+  std::vector<std::uint32_t> retest;
+  for (std::uint32_t v = 0; v < moved.size(); ++v) {
+    if (!moved[v]) continue;
+    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+      const std::uint32_t e = topo.vertex_edges[i];
+      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
+        const std::uint32_t t = topo.edge_faces[k];
+        if (!affected[t]) {
+          affected[t] = 1;
+          retest.push_back(t);
+        }
+      }
+    }
+  }
+  std::sort(retest.begin(), retest.end());
+
+  const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
+  auto skipped = [&](std::size_t m) { return m < settings.skip_among.size() && settings.skip_among[m]; };
+  const std::size_t blocks = (retest.size() + kBlock - 1) / kBlock;
+  std::vector<std::vector<RawCrossing>> found(blocks);
+  run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
+    std::vector<std::uint32_t> near;
+    for (std::size_t block = begin; block < end; ++block) {
+      const std::size_t last = std::min(retest.size(), (block + 1) * kBlock);
+      for (std::size_t i = block * kBlock; i < last; ++i) {
+        const std::uint32_t t = retest[i];
+        const std::uint32_t tm = topo.tri_mesh[t];
+        const Box3 box = triangle_box(topo, t);
+        near.clear();
+        for (std::size_t m = 0; m < meshes; ++m) {
+          if (m == tm && !settings.self_pairs) continue;
+          if (skipped(m) && skipped(tm)) continue;
+          if (const TriangleBvh* tree = hierarchy.mesh(m)) tree->query(box, near);
+        }
+        if (!skipped(tm) && settings.skipped_bvh != nullptr) settings.skipped_bvh->query(box, near);
+        for (std::uint32_t u : near) {
+          // A pair of two retested triangles is tested once, from the lower one.
+          if (u == t || (affected[u] && u < t)) continue;
+          if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
+          if (surely_apart(topo, t, u)) continue;
+          test_owned_edges(topo, t, u, found[block]);
+          test_owned_edges(topo, u, t, found[block]);
+        }
+      }
+    }
+  });
+
+  CrossingSet set;
+  auto unmoved = [&](const RawCrossing& c) {
+    for (std::uint32_t v : topo.edges[c.edge])
+      if (moved[v]) return false;
+    for (std::uint32_t v : topo.tris[c.face])
+      if (moved[v]) return false;
+    return true;
+  };
+  for (const RawCrossing& c : previous.items)
+    if (unmoved(c)) set.items.push_back(c);
+  for (auto& block : found) set.items.insert(set.items.end(), block.begin(), block.end());
+  auto key_less = [](const RawCrossing& a, const RawCrossing& b) {
+    return a.edge != b.edge ? a.edge < b.edge : a.face < b.face;
+  };
+  std::sort(set.items.begin(), set.items.end(), key_less);
+  // An unmoved crossing is found again when its edge's owner triangle has another corner that
+  // moved: keep one copy (both were computed from the same positions).
+  set.items.erase(std::unique(set.items.begin(), set.items.end(),
+                              [](const RawCrossing& a, const RawCrossing& b) {
+                                return a.edge == b.edge && a.face == b.face;
+                              }),
+                  set.items.end());
+  return set;
+}
+
 std::vector<std::array<std::uint32_t, 2>> intersecting_pairs(const SceneTopology& topo,
                                                              const CrossingSet& crossings) {
   std::vector<std::array<std::uint32_t, 2>> pairs;

@@ -3,6 +3,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "detect/triangle_bvh.h"
@@ -51,6 +52,31 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
 
 // Every crossing. Each edge is tested against a face only from its lowest incident triangle.
 CrossingSet detect_crossings(const SceneTopology& topology, const DetectSettings& settings);
+
+// The hierarchies of a scene's tested meshes, kept across iterations of fix. After vertices move,
+// the trees of the meshes that hold them are refitted (the same tree, new boxes), or rebuilt once
+// a quarter of a mesh's vertices have moved since it was built (refitted boxes grow loose).
+class SceneHierarchy {
+ public:
+  SceneHierarchy(const SceneTopology& topology, const DetectSettings& settings);
+  void update(const SceneTopology& topology, const std::vector<std::uint8_t>& moved);
+  // The tree of mesh m; nullptr for the meshes of settings.skip_among when settings.skipped_bvh
+  // holds them.
+  const TriangleBvh* mesh(std::size_t m) const { return per_mesh_[m].get(); }
+
+ private:
+  std::vector<std::unique_ptr<TriangleBvh>> per_mesh_;
+  std::vector<std::size_t> moved_since_build_;
+};
+
+// The crossings after the welded vertices flagged in `moved` changed position, given the crossings
+// before (`previous`, same topology) and the hierarchy already updated to the new positions. Only
+// triangles with a moved corner are tested again, against every triangle their boxes overlap;
+// crossings between unmoved edges and faces are kept. The result equals detect_crossings on the
+// new positions (tests/test_incremental_detection.cpp), at a cost that follows the moved part.
+CrossingSet update_crossings(const SceneTopology& topology, const DetectSettings& settings,
+                             const SceneHierarchy& hierarchy, const CrossingSet& previous,
+                             const std::vector<std::uint8_t>& moved);
 
 // Distinct intersecting triangle pairs (t < u), sorted: a pair intersects iff an edge of one
 // crosses the other.

@@ -148,9 +148,23 @@ class Solver {
     std::size_t best_crossings = static_cast<std::size_t>(-1);
     double best_length = INFINITY;
     int since_best = 0;
+    // After the first iteration only what moved is tested again (update_crossings), on per-mesh
+    // hierarchies refitted to the new positions.
+    std::unique_ptr<SceneHierarchy> hierarchy;
+    CrossingSet set;
+    std::vector<Vec3> before_step;
+    std::vector<std::uint8_t> changed(topo_.points.size(), 0);
     for (int iteration = 0;; ++iteration) {
       const auto t0 = Clock::now();
-      const CrossingSet set = detect_crossings(topo_, settings_);
+      if (!hierarchy) {
+        set = detect_crossings(topo_, settings_);
+        hierarchy = std::make_unique<SceneHierarchy>(topo_, settings_);
+      } else {
+        for (std::size_t v = 0; v < changed.size(); ++v)
+          changed[v] = topo_.points[v] != before_step[v] ? 1 : 0;
+        hierarchy->update(topo_, changed);
+        set = update_crossings(topo_, settings_, *hierarchy, set, changed);
+      }
       const auto t1 = Clock::now();
       const std::vector<TracedContour> traced = build_contours(topo_, set);
       const auto t2 = Clock::now();
@@ -183,6 +197,7 @@ class Solver {
         break;
       }
       if (iteration >= options_.max_iterations) break;
+      before_step = topo_.points;
       const bool moved = step(set, traced, result);
       result.resolve_ms += ms(t2, Clock::now());
       result.displace_ms = result.resolve_ms - result.regions_ms;
@@ -192,7 +207,8 @@ class Solver {
       }
     }
     if (!result.clean && !best_points_.empty()) topo_.points = best_points_;
-    const CrossingSet set = detect_crossings(topo_, settings_);
+    // The final state is detected from scratch: it is what the result reports.
+    set = detect_crossings(topo_, settings_);
     const std::vector<TracedContour> traced = build_contours(topo_, set);
     result.remaining = summarize(topo_, set, traced);
     result.after = result.remaining.counts;
