@@ -97,6 +97,27 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
   for (int k = 1; k < 3; ++k)
     if (std::abs(n[k]) > std::abs(n[drop])) drop = k;
   if (orient_2d(p0, p1, p2, drop) == 0 || orient_2d(P[b[0]], P[b[1]], P[b[2]], drop) == 0) return false;
+  // Sharing one vertex s: apart when no corner ray of one lies in the other's closed sector at s
+  // (the sectors then meet only in s, with an angle between them on both sides). This decides the
+  // pairs across a vertex of a flat grid, whose edges through s are collinear, so that no line
+  // through an edge separates them.
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (a[i] != b[j]) continue;
+      const Vec3& centre = P[a[i]];
+      auto sector = [&](const std::array<std::uint32_t, 3>& tri, int k) {
+        std::array<std::uint32_t, 2> rays{tri[(k + 1) % 3], tri[(k + 2) % 3]};
+        if (orient_2d(centre, P[rays[0]], P[rays[1]], drop) < 0) std::swap(rays[0], rays[1]);
+        return rays;  // counter-clockwise in the projection
+      };
+      const auto sa = sector(a, i), sb = sector(b, j);
+      auto inside = [&](const std::array<std::uint32_t, 2>& rays, std::uint32_t v) {
+        return orient_2d(centre, P[rays[0]], P[v], drop) >= 0 &&
+               orient_2d(centre, P[v], P[rays[1]], drop) >= 0;
+      };
+      return !inside(sa, sb[0]) && !inside(sa, sb[1]) && !inside(sb, sa[0]) && !inside(sb, sa[1]);
+    }
+  }
   // A line through two corners of one triangle separates when its third corner lies strictly on
   // one side and every corner of the other triangle not on the line lies strictly on the other,
   // with at most the shared vertex on the line.

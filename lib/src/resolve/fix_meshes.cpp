@@ -206,8 +206,15 @@ class Solver {
         break;
       }
     }
-    if (!result.clean && !best_points_.empty()) topo_.points = best_points_;
-    // The final state is detected from scratch: it is what the result reports.
+    if (result.clean) {
+      // The last detection (equal to a full one) found nothing on the current positions.
+      result.remaining = summarize(topo_, set, {});
+      result.after = result.remaining.counts;
+      write_back(result);
+      return result;
+    }
+    if (!best_points_.empty()) topo_.points = best_points_;
+    // The state written is detected from scratch: it is what the result reports.
     set = detect_crossings(topo_, settings_);
     const std::vector<TracedContour> traced = build_contours(topo_, set);
     result.remaining = summarize(topo_, set, traced);
