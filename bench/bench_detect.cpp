@@ -105,6 +105,9 @@ struct Row {
   OursRun between;   // threads = 0, pairs of different meshes only (the job of surface_intersection)
   std::size_t pairs_between = 0;
   Stat cgal_pairs, cgal_face_face, cgal_surface;
+  OursRun sheet_self;  // the sheet alone, against itself (`check` on the sheet)
+  Stat cgal_sheet_self;  // PMP::self_intersections on the sheet's prepared Surface_mesh
+  std::size_t sheet_self_pairs = 0, cgal_sheet_self_pairs = 0;
   double convert_ms = 0.0;
 };
 
@@ -130,8 +133,8 @@ int main(int argc, char** argv) {
       profile_runs = std::max(1, std::atoi(argv[++i]));
     } else if (std::strcmp(argv[i], "-h") == 0 || std::strcmp(argv[i], "--help") == 0) {
       std::printf("usage: %s [--quick] [--profile N]\n  --quick  only n = 81 with 3 repeats\n"
-                  "  --profile N  only our detection between the meshes at n = 81, N times (for a "
-                  "profiler)\n",
+                  "  --profile N  only ours at n = 81, N times: between the meshes, then the sheet "
+                  "alone (for a profiler)\n",
                   argv[0]);
       return 0;
     } else {
@@ -155,6 +158,9 @@ int main(int argc, char** argv) {
     const OursRun run = run_ours(meshes, 0, profile_runs, false);
     std::printf("ours between, n = 81: total %s, prepared %s ms (best / median of %d)\n",
                 best_median(run.total).c_str(), best_median(run.prepared).c_str(), profile_runs);
+    const OursRun self = run_ours({meshes[0]}, 0, profile_runs);
+    std::printf("ours sheet self, n = 81: total %s, prepared %s ms (best / median of %d)\n",
+                best_median(self.total).c_str(), best_median(self.prepared).c_str(), profile_runs);
     return 0;
   }
   const std::vector<int> sizes = quick ? std::vector<int>{81}
@@ -196,6 +202,19 @@ int main(int argc, char** argv) {
     row.one = run_ours(meshes, 1, repeats);
     row.between = run_ours(meshes, 0, repeats, false);
     row.pairs_between = row.between.result.triangle_pairs.size();
+
+    row.sheet_self = run_ours({meshes[0]}, 0, repeats);
+    row.sheet_self_pairs = row.sheet_self.result.triangle_pairs.size();
+    row.cgal_sheet_self = stat_of(time_runs(repeats, [&] {
+      std::vector<TrianglePair> pairs;
+      untangle::cgal_reference::append_self_pairs(ref[0], 0, pairs);
+      row.cgal_sheet_self_pairs = pairs.size();
+    }));
+    if (row.sheet_self_pairs != row.cgal_sheet_self_pairs) {
+      mismatch = true;
+      std::printf("!!!!!!!! MISMATCH n=%d: sheet self pairs ours %zu, CGAL %zu !!!!!!!!\n", n,
+                  row.sheet_self_pairs, row.cgal_sheet_self_pairs);
+    }
 
     std::vector<TrianglePair> cgal_pairs;
     row.cgal_pairs = stat_of(time_runs(
@@ -291,6 +310,18 @@ int main(int argc, char** argv) {
                 best_median(r.one.total).c_str(), best_median(r.all.contours).c_str(),
                 best_median(r.cgal_surface).c_str(), ratio(r.cgal_surface, r.all.total),
                 ratio(r.cgal_surface, r.one.total));
+  }
+
+  std::printf("\nself-intersections of the sheet alone: ours (find_intersections on the sheet: "
+              "detection and contours; prepared = less welding) vs CGAL self_intersections on its "
+              "prepared Surface_mesh\n");
+  std::printf("%5s %7s %21s %21s %21s %9s %9s\n", "n", "pairs", "ours total", "ours prepared",
+              "CGAL self_inters.", "x prep", "x all");
+  for (const Row& r : rows) {
+    std::printf("%5d %7zu %21s %21s %21s %9.2f %9.2f\n", r.n, r.sheet_self_pairs,
+                best_median(r.sheet_self.total).c_str(), best_median(r.sheet_self.prepared).c_str(),
+                best_median(r.cgal_sheet_self).c_str(), ratio(r.cgal_sheet_self, r.sheet_self.prepared),
+                ratio(r.cgal_sheet_self, r.sheet_self.total));
   }
 
   if (mismatch) {

@@ -50,6 +50,14 @@ void test_owned_edges(const SceneTopology& topo, std::uint32_t t, std::uint32_t 
 // Exact filtered orientation without perturbation (0 when exactly coplanar).
 int orient_exact(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t b, std::uint32_t c,
                  std::uint32_t d) {
+  // Four points with one coordinate equal (bit for bit) lie in a plane normal to that axis: the
+  // difference vectors have an exact zero component, so the determinant is exactly 0. This is the
+  // answer CGAL would reach too, but only after its floating-point filter fails on the exact zero
+  // and interval arithmetic takes over; flat sheets ask it for nearly every neighbouring pair.
+  for (int k = 0; k < 3; ++k) {
+    const double x = points[a][k];
+    if (points[b][k] == x && points[c][k] == x && points[d][k] == x) return 0;
+  }
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   auto p = [&](std::uint32_t i) { return K::Point_3(points[i][0], points[i][1], points[i][2]); };
   return static_cast<int>(CGAL::orientation(p(a), p(b), p(c), p(d)));
@@ -58,6 +66,19 @@ int orient_exact(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t
 int orient_2d(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
+  // Three points on a line parallel to an axis: exactly collinear (as in orient_exact).
+  if ((a[i] == b[i] && a[i] == c[i]) || (a[j] == b[j] && a[j] == c[j])) return 0;
+  // Shewchuk's floating-point filter (orient2d, error bound A): the determinant's sign is certain
+  // when it exceeds (3 + 16 eps) eps times the sum of the magnitudes of its two products. Inline,
+  // without building points; CGAL's filtered predicate decides the rest exactly. Magnitudes near
+  // the underflow range, where the bound does not hold, go to CGAL too.
+  const double left = (a[i] - c[i]) * (b[j] - c[j]);
+  const double right = (a[j] - c[j]) * (b[i] - c[i]);
+  const double det = left - right;
+  const double sum = std::abs(left) + std::abs(right);
+  const double bound = 3.3306690738754716e-16 * sum;
+  if (sum > 1e-280 && det > bound) return 1;
+  if (sum > 1e-280 && -det > bound) return -1;
   return static_cast<int>(CGAL::orientation(K::Point_2(a[i], a[j]), K::Point_2(b[i], b[j]),
                                             K::Point_2(c[i], c[j])));
 }
@@ -86,7 +107,9 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
   };
   bool coplanar_b = false, coplanar_a = false;
   if (one_side(a, b, coplanar_b)) return true;
-  if (one_side(b, a, coplanar_a)) return true;
+  // b's free corners in a's plane: b lies in that plane (or is degenerate), a in b's, and the test
+  // from b's side can only find zeros.
+  if (!coplanar_b && one_side(b, a, coplanar_a)) return true;
   if (!coplanar_b) return false;
   // Coplanar: project along the dominant axis of t's normal (skip degenerate projections).
   const Vec3 &p0 = P[a[0]], &p1 = P[a[1]], &p2 = P[a[2]];
@@ -96,7 +119,9 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
   int drop = 0;
   for (int k = 1; k < 3; ++k)
     if (std::abs(n[k]) > std::abs(n[drop])) drop = k;
-  if (orient_2d(p0, p1, p2, drop) == 0 || orient_2d(P[b[0]], P[b[1]], P[b[2]], drop) == 0) return false;
+  const int turn_a = orient_2d(p0, p1, p2, drop);
+  const int turn_b = orient_2d(P[b[0]], P[b[1]], P[b[2]], drop);
+  if (turn_a == 0 || turn_b == 0) return false;
   // Sharing one vertex s: apart when no corner ray of one lies in the other's closed sector at s
   // (the sectors then meet only in s, with an angle between them on both sides). This decides the
   // pairs across a vertex of a flat grid, whose edges through s are collinear, so that no line
@@ -105,12 +130,13 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
     for (int j = 0; j < 3; ++j) {
       if (a[i] != b[j]) continue;
       const Vec3& centre = P[a[i]];
-      auto sector = [&](const std::array<std::uint32_t, 3>& tri, int k) {
+      // (tri[k], tri[k+1], tri[k+2]) turns like the triangle.
+      auto sector = [&](const std::array<std::uint32_t, 3>& tri, int k, int turn) {
         std::array<std::uint32_t, 2> rays{tri[(k + 1) % 3], tri[(k + 2) % 3]};
-        if (orient_2d(centre, P[rays[0]], P[rays[1]], drop) < 0) std::swap(rays[0], rays[1]);
+        if (turn < 0) std::swap(rays[0], rays[1]);
         return rays;  // counter-clockwise in the projection
       };
-      const auto sa = sector(a, i), sb = sector(b, j);
+      const auto sa = sector(a, i, turn_a), sb = sector(b, j, turn_b);
       auto inside = [&](const std::array<std::uint32_t, 2>& rays, std::uint32_t v) {
         return orient_2d(centre, P[rays[0]], P[v], drop) >= 0 &&
                orient_2d(centre, P[v], P[rays[1]], drop) >= 0;
@@ -121,10 +147,11 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
   // A line through two corners of one triangle separates when its third corner lies strictly on
   // one side and every corner of the other triangle not on the line lies strictly on the other,
   // with at most the shared vertex on the line.
-  auto separates = [&](const std::array<std::uint32_t, 3>& x, const std::array<std::uint32_t, 3>& y) {
+  // The third corner's side of an edge line is the triangle's turn (the same for its three edges).
+  auto separates = [&](const std::array<std::uint32_t, 3>& x, const std::array<std::uint32_t, 3>& y,
+                       int own) {
     for (int k = 0; k < 3; ++k) {
-      const std::uint32_t i = x[k], j = x[(k + 1) % 3], w = x[(k + 2) % 3];
-      const int own = orient_2d(P[i], P[j], P[w], drop);
+      const std::uint32_t i = x[k], j = x[(k + 1) % 3];
       bool ok = true;
       for (std::uint32_t v : y) {
         if (v == i || v == j) continue;
@@ -137,7 +164,7 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
     }
     return false;
   };
-  return separates(a, b) || separates(b, a);
+  return separates(a, b, turn_a) || separates(b, a, turn_b);
 }
 
 template <class Body>
