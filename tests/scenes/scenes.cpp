@@ -412,6 +412,19 @@ Scene sheet_on_spikes() {
   return scene;
 }
 
+// Yields 4 contours: BB (panel) / II (body), one across each corner.
+// A square panel (side 1.8) at height 0.0137 through a closed sphere of radius 1: the middle of the
+// panel, most of its area, is inside the body; only its four corners stick out. "The smaller
+// region is illegal" would push the corners in; the body's inside says the middle is illegal.
+Scene panel_in_body() {
+  Scene scene;
+  scene.name = "panel_in_body";
+  scene.movable.push_back(
+      grid_sheet(37, 37, {-0.9029, -0.8987, 0.0137}, {1.8, 0.0, 0.0}, {0.0, 1.8, 0.0}, "panel"));
+  scene.obstacles.push_back(obstacle(uv_sphere({0.0, 0.0, 0.0}, 1.0, 48, 24, "body")));
+  return scene;
+}
+
 // Yields >= 1 contour between sheet and cow, all CL (sheet) / CL (cow).
 // The cow (closed) cut across the middle of its longest bounding-box axis by an n x n sheet 1.2
 // times the box in the other two axes: only closed contours, CL on the sheet and CL on the cow.

@@ -63,6 +63,9 @@ Scene tube_around_body();
 Scene garment_four_loops();
 // A sheet lying on cone spikes whose tips poke through (spikes as obstacle).
 Scene sheet_on_spikes();
+// A panel mostly inside a closed body, only its corners outside (the case where "small is
+// illegal" picks the wrong side; not in named_scenes()).
+Scene panel_in_body();
 // An n x n sheet through the cow (requires cow_path() non-empty). The sheet cuts the cow's body
 // across its middle.
 Scene sheet_through_cow(int n);
