@@ -20,6 +20,7 @@
 #include "untangle/version.h"
 #include "untangle/write_meshes.h"
 
+#include "bench.h"
 #include "pipeline.h"
 
 namespace {
@@ -33,11 +34,12 @@ using untangle::app::run_pipeline;
 
 constexpr const char* kExitCodes =
     "Exit codes:\n"
-    "  0  success: nothing intersects (check), or the command did its job\n"
+    "  0  success: nothing intersects (check), or the command did its job (bench: it ran)\n"
     "  1  internal error\n"
     "  2  usage error (bad command line)\n"
     "  3  unreadable input (missing, empty, unknown format, corrupt, no triangles,\n"
-    "     NaN or infinite coordinates, face indices out of range)\n"
+    "     NaN or infinite coordinates, face indices out of range; bench: a --data\n"
+    "     folder without garment/body pairs)\n"
     "  4  output not written\n"
     "  5  intersections found (check) or remaining in the written output (fix)\n";
 
@@ -255,6 +257,27 @@ int main(int argc, char** argv) {
                 "the smaller region is illegal everywhere (the paper's rule)");
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing output files (never an input)");
   fix->footer(kExitCodes);
+  untangle::app::BenchOptions bench_options;
+  CLI::App* bench = app.add_subcommand(
+      "bench", "Time the repair on built-in generated scenes (and garment/body pairs with --data)");
+  bench->add_option("--repeat", bench_options.repeat, "Runs per scene and method; best and median are reported (default 3)")
+      ->check(CLI::PositiveNumber)
+      ->option_text("N");
+  bench->add_option("--method", bench_options.method, "Method(s) to time: region, paper or both (default both)")
+      ->check(CLI::IsMember({"region", "paper", "both"}))
+      ->option_text("region|paper|both");
+  bench->add_option("--plot", bench_options.plot_dir,
+                    "Write DIR/<scene>.csv and DIR/<scene>.svg: crossings and contour length per iteration against elapsed ms")
+      ->option_text("DIR");
+  bench->add_option("--data", bench_options.data_dir,
+                    "Also every garment DIR/garments/<prefix>_*.obj against DIR/bodies/<prefix>_generic.obj (as shipped and scaled 1.02)")
+      ->option_text("DIR");
+  bench->add_flag("--json", bench_options.json, "Print the tables and histories as JSON on stdout instead");
+  bench->add_flag("--quick", bench_options.quick, "The small suite: four small scenes, accuracy on one");
+  bench->add_option("--threads", bench_options.threads, "Worker threads, 0 = all cores (same result for every N)")
+      ->check(CLI::NonNegativeNumber)
+      ->option_text("N");
+  bench->footer(kExitCodes);
 
   try {
     app.parse(argc, argv);
@@ -273,6 +296,7 @@ int main(int argc, char** argv) {
     if (info->parsed()) return run_info(info_options);
     if (check->parsed()) return run_check(check_options);
     if (fix->parsed()) return run_fix(fix_options);
+    if (bench->parsed()) return untangle::app::run_bench(bench_options);
   } catch (const untangle::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return static_cast<int>(e.code());
