@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "best_median.h"
 #include "pipeline.h"
 #include "plot.h"
 #include "scenes/scenes.h"
@@ -144,20 +145,6 @@ std::vector<BenchCase> data_cases(const std::string& dir, const fs::path& folder
     cases.push_back({name + "_x1.02", "data", {garment}, scaled[body]});
   }
   return cases;
-}
-
-struct Stat {
-  double best = 0.0, median = 0.0;
-};
-
-Stat stat_of(std::vector<double> v) {
-  Stat s;
-  if (v.empty()) return s;
-  std::sort(v.begin(), v.end());
-  s.best = v.front();
-  const std::size_t n = v.size();
-  s.median = n % 2 == 1 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-  return s;
 }
 
 const char* const kStages[] = {"load", "detect", "contours", "regions", "displace", "write", "verify", "total"};
