@@ -20,57 +20,28 @@
 #include "untangle/version.h"
 #include "untangle/write_meshes.h"
 
+#include "bench.h"
+#include "pipeline.h"
+
 namespace {
 
 using untangle::ExitCode;
+using untangle::app::CommonOptions;
+using untangle::app::load_all;
+using untangle::app::ms_since;
+using untangle::app::PipelineRun;
+using untangle::app::run_pipeline;
 
 constexpr const char* kExitCodes =
     "Exit codes:\n"
-    "  0  success: nothing intersects (check), or the command did its job\n"
+    "  0  success: nothing intersects (check), or the command did its job (bench: it ran)\n"
     "  1  internal error\n"
     "  2  usage error (bad command line)\n"
     "  3  unreadable input (missing, empty, unknown format, corrupt, no triangles,\n"
-    "     NaN or infinite coordinates, face indices out of range)\n"
+    "     NaN or infinite coordinates, face indices out of range; bench: a --data\n"
+    "     folder without garment/body pairs)\n"
     "  4  output not written\n"
     "  5  intersections found (check) or remaining in the written output (fix)\n";
-
-struct CommonOptions {
-  std::vector<std::string> inputs;
-  std::vector<std::string> obstacles;
-  std::string report;
-  std::string contours;
-  int threads = 0;
-  bool quiet = false;
-  bool verbose = false;
-  // fix
-  std::vector<std::string> outputs;
-  std::string output_dir;
-  std::vector<std::string> pin_files;
-  std::vector<std::string> pin_groups;
-  std::string method = "region";
-  int max_iterations = 200;
-  double clearance = 0.05;
-  bool outside_closed = true;
-  bool overwrite = false;
-};
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
-
-std::vector<untangle::Mesh> load_all(const CommonOptions& o, std::vector<std::size_t>* file_of = nullptr) {
-  std::vector<untangle::Mesh> meshes;
-  for (std::size_t k = 0; k < o.inputs.size(); ++k) {
-    for (auto& m : untangle::read_meshes(o.inputs[k], untangle::Role::kMovable)) {
-      meshes.push_back(std::move(m));
-      if (file_of != nullptr) file_of->push_back(k);
-    }
-  }
-  for (const std::string& path : o.obstacles) {
-    for (auto& m : untangle::read_meshes(path, untangle::Role::kObstacle)) meshes.push_back(std::move(m));
-  }
-  return meshes;
-}
 
 // Labels name the mesh inside its file only when the file holds several.
 std::vector<std::string> labels_of(const std::vector<untangle::Mesh>& meshes) {
@@ -175,137 +146,7 @@ int run_check(const CommonOptions& o) {
 }
 
 
-[[noreturn]] void refuse(const std::string& path, const std::string& why) {
-  throw untangle::Error(ExitCode::kOutputNotWritten, path, why);
-}
-
-// Output paths, checked before any work: one per movable input, never an input, never an
-// existing file without --overwrite, in an existing folder, in a format we can write.
-std::vector<std::string> plan_outputs(const CommonOptions& o) {
-  namespace fs = std::filesystem;
-  std::vector<std::string> outputs = o.outputs;
-  if (!o.output_dir.empty()) {
-    for (const std::string& in : o.inputs) outputs.push_back((fs::path(o.output_dir) / fs::path(in).filename()).string());
-  }
-  if (outputs.size() != o.inputs.size()) {
-    throw untangle::Error(ExitCode::kUsage, "",
-                          "fix needs one -o per movable input (" + std::to_string(o.inputs.size()) +
-                              " inputs, " + std::to_string(outputs.size()) + " outputs) or --output-dir");
-  }
-  auto same_file = [](const std::string& a, const std::string& b) {
-    std::error_code ec;
-    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
-  };
-  for (std::size_t k = 0; k < outputs.size(); ++k) {
-    const std::string& out = outputs[k];
-    std::vector<std::string> all_inputs = o.inputs;
-    all_inputs.insert(all_inputs.end(), o.obstacles.begin(), o.obstacles.end());
-    for (const std::string& in : all_inputs)
-      if (same_file(out, in)) refuse(out, "is an input; untangle never overwrites its inputs");
-    for (std::size_t j = 0; j < k; ++j)
-      if (same_file(out, outputs[j])) refuse(out, "named twice as output");
-    const fs::path parent = fs::path(out).has_parent_path() ? fs::path(out).parent_path() : fs::path(".");
-    std::error_code ec;
-    if (!fs::is_directory(parent, ec)) refuse(out, "folder " + parent.string() + " does not exist");
-    if (fs::exists(out, ec) && !o.overwrite) refuse(out, "exists; pass --overwrite to replace it");
-    if (!untangle::can_write(out)) refuse(out, "no writer for this file extension");
-    auto ext = [](const std::string& p) {
-      std::string e = fs::path(p).extension().string();
-      for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      return e;
-    };
-    if (ext(o.inputs[k]) == ".obj" && ext(out) != ".obj")
-      refuse(out, "an OBJ input is written as OBJ (its lines are kept as they are)");
-    if (ext(out) == ".off") {
-      std::ifstream in(o.inputs[k]);
-      std::string keyword;
-      in >> keyword;
-      if (ext(o.inputs[k]) != ".off" || keyword != "OFF")
-        refuse(out, "OFF is written only from a plain OFF input (its lines are kept as they are)");
-    }
-  }
-  return outputs;
-}
-
-// --pin files: one 0-based vertex index per line (of the first movable input), or
-// "INPUT VERTEX" with the 0-based movable input number; '#' starts a comment.
-untangle::PinMask read_pins(const CommonOptions& o, const std::vector<untangle::Mesh>& meshes,
-                            const std::vector<std::size_t>& file_of) {
-  untangle::PinMask pins(meshes.size());
-  for (std::size_t m = 0; m < meshes.size(); ++m) pins[m].assign(meshes[m].positions.size(), 0);
-  auto pin = [&](std::size_t file, long long index, const std::string& path, std::size_t line) {
-    long long offset = index;
-    for (std::size_t m = 0; m < meshes.size(); ++m) {
-      if (m >= file_of.size() || file_of[m] != file) continue;
-      if (offset < static_cast<long long>(meshes[m].positions.size())) {
-        pins[m][static_cast<std::size_t>(offset)] = 1;
-        return;
-      }
-      offset -= static_cast<long long>(meshes[m].positions.size());
-    }
-    throw untangle::Error(ExitCode::kUnreadableInput, path,
-                          "line " + std::to_string(line) + ": vertex " + std::to_string(index) +
-                              " is not in input " + std::to_string(file));
-  };
-  for (const std::string& path : o.pin_files) {
-    std::ifstream in(path);
-    if (!in) throw untangle::Error(ExitCode::kUnreadableInput, path, "cannot open pin file");
-    std::string text;
-    std::size_t line = 0;
-    while (std::getline(in, text)) {
-      ++line;
-      text = text.substr(0, text.find('#'));
-      std::istringstream fields(text);
-      std::vector<long long> numbers;
-      long long value = 0;
-      while (fields >> value) numbers.push_back(value);
-      if (!fields.eof()) throw untangle::Error(ExitCode::kUnreadableInput, path, "line " + std::to_string(line) + ": not a number");
-      if (numbers.empty()) continue;
-      if (numbers.size() > 2 || numbers.back() < 0 || (numbers.size() == 2 && numbers[0] < 0))
-        throw untangle::Error(ExitCode::kUnreadableInput, path, "line " + std::to_string(line) + ": expected VERTEX or INPUT VERTEX");
-      const std::size_t file = numbers.size() == 2 ? static_cast<std::size_t>(numbers[0]) : 0;
-      pin(file, numbers.back(), path, line);
-    }
-  }
-  for (const std::string& group : o.pin_groups) {
-    bool found = false;
-    for (std::size_t m = 0; m < meshes.size(); ++m) {
-      const untangle::Mesh& mesh = meshes[m];
-      if (mesh.role != untangle::Role::kMovable) continue;
-      const bool whole = mesh.name == group && mesh.group_names.empty();
-      for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-        const bool in_group = whole || (!mesh.group_names.empty() && mesh.group_names[mesh.triangle_group[t]] == group);
-        if (!in_group) continue;
-        found = true;
-        for (std::uint32_t v : mesh.triangles[t]) pins[m][v] = 1;
-      }
-    }
-    if (!found) throw untangle::Error(ExitCode::kUsage, "", "--pin-group " + group + ": no mesh or group of that name");
-  }
-  return pins;
-}
-
 int run_fix(const CommonOptions& o) {
-  const auto start = std::chrono::steady_clock::now();
-  const std::vector<std::string> outputs = plan_outputs(o);
-  std::vector<std::size_t> file_of;
-  std::vector<untangle::Mesh> meshes = load_all(o, &file_of);
-  std::vector<untangle::MeshInfo> infos;
-  for (const auto& m : meshes) infos.push_back(untangle::describe_mesh(m));
-  const untangle::PinMask pins = read_pins(o, meshes, file_of);
-  untangle::FixTimingsMs timings;
-  timings.load = ms_since(start);
-
-  untangle::FixOptions options;
-  options.method = o.method == "paper" ? untangle::FixMethod::kPaper : untangle::FixMethod::kRegion;
-  options.max_iterations = o.max_iterations;
-  options.clearance = o.clearance;
-  options.outside_closed_obstacles = o.outside_closed;
-  options.threads = o.threads;
-  std::function<untangle::Vec3(const untangle::Vec3&)> rounding;
-  for (const std::string& out : outputs)
-    if (auto r = untangle::output_rounding(out)) rounding = r;
   const bool show = !o.quiet && o.report != "-";
   untangle::FixProgress progress;
   if (o.verbose && show) {
@@ -315,34 +156,10 @@ int run_fix(const CommonOptions& o) {
       return true;
     };
   }
-  const auto resolve_start = std::chrono::steady_clock::now();
-  const untangle::FixResult result = untangle::fix_meshes(meshes, options, pins, rounding, progress);
-  timings.detect = result.detect_ms;
-  timings.contours = result.contours_ms;
-  timings.resolve = ms_since(resolve_start) - result.detect_ms - result.contours_ms;
-
-  const auto write_start = std::chrono::steady_clock::now();
-  for (std::size_t k = 0; k < o.inputs.size(); ++k) {
-    std::vector<const untangle::Mesh*> of_file;
-    for (std::size_t m = 0; m < meshes.size(); ++m)
-      if (m < file_of.size() && file_of[m] == k) of_file.push_back(&meshes[m]);
-    untangle::write_meshes(o.inputs[k], outputs[k], of_file);
-  }
-  timings.write = ms_since(write_start);
-
-  // The written files are the truth: read them back with the obstacles and detect again.
-  const auto verify_start = std::chrono::steady_clock::now();
-  std::vector<untangle::Mesh> written;
-  for (const std::string& out : outputs)
-    for (auto& m : untangle::read_meshes(out, untangle::Role::kMovable)) written.push_back(std::move(m));
-  for (const auto& m : meshes)
-    if (m.role == untangle::Role::kObstacle) written.push_back(m);
-  untangle::DetectOptions detect;
-  detect.threads = o.threads;
-  detect.skip_obstacle_pairs = true;
-  const untangle::Intersections verified = untangle::find_intersections(written, detect);
-  timings.verify = ms_since(verify_start);
-  timings.total = ms_since(start);
+  const PipelineRun run = run_pipeline(o, progress);
+  const std::vector<std::string>& outputs = run.outputs;
+  const untangle::FixResult& result = run.result;
+  const untangle::Intersections& verified = run.verified;
 
   if (!o.contours.empty()) {
     untangle::write_text_file_atomically(o.contours, untangle::contours_obj(verified));
@@ -357,7 +174,7 @@ int run_fix(const CommonOptions& o) {
                 result.displacement.max_over_mean_edge, result.displacement.mean);
     for (std::size_t k = 0; k < outputs.size(); ++k) std::printf("wrote %s\n", outputs[k].c_str());
     if (!clean) {
-      const std::vector<std::string> labels = labels_of(written);
+      const std::vector<std::string> labels = labels_of(run.written);
       for (std::size_t k = 0; k < verified.contours.size(); ++k) {
         const auto& ct = verified.contours[k];
         std::printf("  remaining contour %zu: %s %s/%s %s, %zu crossings\n", k,
@@ -368,7 +185,8 @@ int run_fix(const CommonOptions& o) {
     }
     std::printf("status: %s%s\n", clean ? "clean" : "unresolved", result.stalled && !clean ? " (stalled)" : "");
   }
-  emit_report(o.report, untangle::fix_report_json(meshes, infos, outputs, options, result, verified, timings));
+  emit_report(o.report, untangle::fix_report_json(run.meshes, run.infos, outputs, run.options, result,
+                                                   verified, run.timings));
   return clean ? 0 : static_cast<int>(ExitCode::kIntersecting);
 }
 
@@ -439,6 +257,27 @@ int main(int argc, char** argv) {
                 "the smaller region is illegal everywhere (the paper's rule)");
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing output files (never an input)");
   fix->footer(kExitCodes);
+  untangle::app::BenchOptions bench_options;
+  CLI::App* bench = app.add_subcommand(
+      "bench", "Time the repair on built-in generated scenes (and garment/body pairs with --data)");
+  bench->add_option("--repeat", bench_options.repeat, "Runs per scene and method; best and median are reported (default 3)")
+      ->check(CLI::PositiveNumber)
+      ->option_text("N");
+  bench->add_option("--method", bench_options.method, "Method(s) to time: region, paper or both (default both)")
+      ->check(CLI::IsMember({"region", "paper", "both"}))
+      ->option_text("region|paper|both");
+  bench->add_option("--plot", bench_options.plot_dir,
+                    "Write DIR/<scene>.csv and DIR/<scene>.svg: crossings and contour length per iteration against elapsed ms")
+      ->option_text("DIR");
+  bench->add_option("--data", bench_options.data_dir,
+                    "Also every garment DIR/garments/<prefix>_*.obj against DIR/bodies/<prefix>_generic.obj (as shipped and scaled 1.02)")
+      ->option_text("DIR");
+  bench->add_flag("--json", bench_options.json, "Print the tables and histories as JSON on stdout instead");
+  bench->add_flag("--quick", bench_options.quick, "The small suite: four small scenes, accuracy on one");
+  bench->add_option("--threads", bench_options.threads, "Worker threads, 0 = all cores (same result for every N)")
+      ->check(CLI::NonNegativeNumber)
+      ->option_text("N");
+  bench->footer(kExitCodes);
 
   try {
     app.parse(argc, argv);
@@ -457,6 +296,7 @@ int main(int argc, char** argv) {
     if (info->parsed()) return run_info(info_options);
     if (check->parsed()) return run_check(check_options);
     if (fix->parsed()) return run_fix(fix_options);
+    if (bench->parsed()) return untangle::app::run_bench(bench_options);
   } catch (const untangle::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return static_cast<int>(e.code());

@@ -27,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "app/best_median.h"
 #include "cgal_reference.h"
 #include "scenes/scenes.h"
 #include "untangle/intersections.h"
@@ -34,21 +35,9 @@
 
 namespace {
 
+using untangle::app::Stat;
+using untangle::app::stat_of;
 using untangle::cgal_reference::TrianglePair;
-
-struct Stat {
-  double best = 0.0;
-  double median = 0.0;
-};
-
-Stat stat_of(std::vector<double> ms) {
-  std::sort(ms.begin(), ms.end());
-  Stat s;
-  s.best = ms.front();
-  const std::size_t n = ms.size();
-  s.median = n % 2 == 1 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
-  return s;
-}
 
 double elapsed_ms(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - since)

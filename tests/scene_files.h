@@ -10,8 +10,7 @@
 
 namespace untangle::testing {
 
-struct SceneFiles {
-  std::vector<std::string> movable, obstacles;
+struct SceneFiles : scenes::SceneFiles {
   // The CLI arguments naming them: movable files, then --obstacle FILE for each obstacle.
   std::string inputs_args() const {
     std::string args;
@@ -23,17 +22,7 @@ struct SceneFiles {
 
 // Writes every mesh of `scene` under `folder` (created if missing).
 inline SceneFiles write_scene(const scenes::Scene& scene, const std::string& folder) {
-  std::filesystem::create_directories(folder);
-  SceneFiles files;
-  for (std::size_t i = 0; i < scene.movable.size(); ++i) {
-    files.movable.push_back(folder + "/movable_" + std::to_string(i) + ".obj");
-    scenes::write_obj(scene.movable[i], files.movable.back());
-  }
-  for (std::size_t i = 0; i < scene.obstacles.size(); ++i) {
-    files.obstacles.push_back(folder + "/obstacle_" + std::to_string(i) + ".obj");
-    scenes::write_obj(scene.obstacles[i], files.obstacles.back());
-  }
-  return files;
+  return {scenes::write_scene_files(scene, folder)};
 }
 
 inline SceneFiles write_scene(const scenes::Scene& scene, const TempDir& dir) {

@@ -25,17 +25,10 @@ int main(int argc, char** argv) {
           std::filesystem::remove(entry.path());
         }
       }
+      untangle::scenes::write_scene_files(scene, dir.string());
       std::size_t triangles = 0;
-      for (std::size_t i = 0; i < scene.movable.size(); ++i) {
-        untangle::scenes::write_obj(scene.movable[i],
-                                    (dir / ("movable_" + std::to_string(i) + ".obj")).string());
-        triangles += scene.movable[i].triangles.size();
-      }
-      for (std::size_t i = 0; i < scene.obstacles.size(); ++i) {
-        untangle::scenes::write_obj(scene.obstacles[i],
-                                    (dir / ("obstacle_" + std::to_string(i) + ".obj")).string());
-        triangles += scene.obstacles[i].triangles.size();
-      }
+      for (const untangle::Mesh& m : scene.movable) triangles += m.triangles.size();
+      for (const untangle::Mesh& m : scene.obstacles) triangles += m.triangles.size();
       std::fprintf(stderr, "%s: %zu movable, %zu obstacles, %zu triangles\n", scene.name.c_str(),
                    scene.movable.size(), scene.obstacles.size(), triangles);
     }

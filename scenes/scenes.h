@@ -70,7 +70,12 @@ Scene panel_in_body();
 // across its middle.
 Scene sheet_through_cow(int n);
 
-// The named scenes above except the cow, in the order listed (what testdata/ holds).
+// An n x n sheet (3 x 3) across the cylinder of a closed capsule (radius 0.6, obstacle): one
+// CL/CL contour around a disc of about n^2 / 8 sheet vertices, for timing larger repairs without
+// the cow.
+Scene sheet_through_capsule(int n);
+
+// The named scenes above except the cow and sheet_through_capsule, in the order listed (what testdata/ holds).
 std::vector<Scene> named_scenes();
 
 // The meshes of a scene as find_intersections takes them: movable first, then the obstacles (with
@@ -79,5 +84,13 @@ std::vector<Mesh> scene_meshes(const Scene& scene);
 
 // Writes a mesh as OBJ (v and f lines, full double precision via %.17g).
 void write_obj(const Mesh& mesh, const std::string& path);
+
+// The files of a scene written by write_scene_files, in scene order.
+struct SceneFiles {
+  std::vector<std::string> movable, obstacles;
+};
+// Writes every mesh of `scene` under `folder` (created if missing) as movable_<i>.obj and
+// obstacle_<i>.obj (the layout of testdata/). Throws Error(kOutputNotWritten).
+SceneFiles write_scene_files(const Scene& scene, const std::string& folder);
 
 }  // namespace untangle::scenes

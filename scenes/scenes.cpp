@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <stdexcept>
 #include <utility>
@@ -459,6 +460,16 @@ Scene sheet_through_cow(int n) {
   return scene;
 }
 
+Scene sheet_through_capsule(int n) {
+  Scene scene;
+  scene.name = "sheet_through_capsule_" + std::to_string(n);
+  // 0.0137 above the middle ring of the cylinder, shifted off the capsule's meridian planes.
+  scene.movable.push_back(
+      grid_sheet(n, n, {-1.4929, -1.4887, 0.0137}, {3.0, 0.0, 0.0}, {0.0, 3.0, 0.0}, "sheet"));
+  scene.obstacles.push_back(obstacle(capsule({0.0, 0.0, 0.0}, 0.6, 1.6, 48, 17, "capsule")));
+  return scene;
+}
+
 std::vector<Scene> named_scenes() {
   return {sheet_through_sphere(), strip_through_sheet(), sheets_corner(),  folded_sheet(),
           tube_around_body(),     garment_four_loops(),  sheet_on_spikes()};
@@ -487,6 +498,22 @@ void write_obj(const Mesh& mesh, const std::string& path) {
   if (std::fclose(file) != 0 || !ok) {
     throw Error(ExitCode::kOutputNotWritten, path, "write failed");
   }
+}
+
+SceneFiles write_scene_files(const Scene& scene, const std::string& folder) {
+  std::error_code ec;
+  std::filesystem::create_directories(folder, ec);
+  if (ec) throw Error(ExitCode::kOutputNotWritten, folder, "cannot create folder: " + ec.message());
+  SceneFiles files;
+  for (std::size_t i = 0; i < scene.movable.size(); ++i) {
+    files.movable.push_back(folder + "/movable_" + std::to_string(i) + ".obj");
+    write_obj(scene.movable[i], files.movable.back());
+  }
+  for (std::size_t i = 0; i < scene.obstacles.size(); ++i) {
+    files.obstacles.push_back(folder + "/obstacle_" + std::to_string(i) + ".obj");
+    write_obj(scene.obstacles[i], files.obstacles.back());
+  }
+  return files;
 }
 
 }  // namespace untangle::scenes

@@ -1,0 +1,207 @@
+// The repair pipeline shared by `untangle fix` and `untangle bench`: load -> fix -> write -> verify.
+#include "pipeline.h"
+
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "untangle/error.h"
+#include "untangle/read_meshes.h"
+#include "untangle/write_meshes.h"
+
+namespace untangle::app {
+
+double ms_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<Mesh> load_all(const CommonOptions& o, std::vector<std::size_t>* file_of) {
+  std::vector<Mesh> meshes;
+  for (std::size_t k = 0; k < o.inputs.size(); ++k) {
+    for (auto& m : read_meshes(o.inputs[k], Role::kMovable)) {
+      meshes.push_back(std::move(m));
+      if (file_of != nullptr) file_of->push_back(k);
+    }
+  }
+  for (const std::string& path : o.obstacles) {
+    for (auto& m : read_meshes(path, Role::kObstacle)) meshes.push_back(std::move(m));
+  }
+  return meshes;
+}
+
+namespace {
+
+[[noreturn]] void refuse(const std::string& path, const std::string& why) {
+  throw Error(ExitCode::kOutputNotWritten, path, why);
+}
+
+// Output paths, checked before any work: one per movable input, never an input, never an
+// existing file without --overwrite, in an existing folder, in a format we can write.
+std::vector<std::string> plan_outputs(const CommonOptions& o) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> outputs = o.outputs;
+  if (!o.output_dir.empty()) {
+    for (const std::string& in : o.inputs) outputs.push_back((fs::path(o.output_dir) / fs::path(in).filename()).string());
+  }
+  if (outputs.size() != o.inputs.size()) {
+    throw Error(ExitCode::kUsage, "",
+                          "fix needs one -o per movable input (" + std::to_string(o.inputs.size()) +
+                              " inputs, " + std::to_string(outputs.size()) + " outputs) or --output-dir");
+  }
+  auto same_file = [](const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+  };
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    const std::string& out = outputs[k];
+    std::vector<std::string> all_inputs = o.inputs;
+    all_inputs.insert(all_inputs.end(), o.obstacles.begin(), o.obstacles.end());
+    for (const std::string& in : all_inputs)
+      if (same_file(out, in)) refuse(out, "is an input; untangle never overwrites its inputs");
+    for (std::size_t j = 0; j < k; ++j)
+      if (same_file(out, outputs[j])) refuse(out, "named twice as output");
+    const fs::path parent = fs::path(out).has_parent_path() ? fs::path(out).parent_path() : fs::path(".");
+    std::error_code ec;
+    if (!fs::is_directory(parent, ec)) refuse(out, "folder " + parent.string() + " does not exist");
+    if (fs::exists(out, ec) && !o.overwrite) refuse(out, "exists; pass --overwrite to replace it");
+    if (!can_write(out)) refuse(out, "no writer for this file extension");
+    auto ext = [](const std::string& p) {
+      std::string e = fs::path(p).extension().string();
+      for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      return e;
+    };
+    if (ext(o.inputs[k]) == ".obj" && ext(out) != ".obj")
+      refuse(out, "an OBJ input is written as OBJ (its lines are kept as they are)");
+    if (ext(out) == ".off") {
+      std::ifstream in(o.inputs[k]);
+      std::string keyword;
+      in >> keyword;
+      if (ext(o.inputs[k]) != ".off" || keyword != "OFF")
+        refuse(out, "OFF is written only from a plain OFF input (its lines are kept as they are)");
+    }
+  }
+  return outputs;
+}
+
+// --pin files: one 0-based vertex index per line (of the first movable input), or
+// "INPUT VERTEX" with the 0-based movable input number; '#' starts a comment.
+PinMask read_pins(const CommonOptions& o, const std::vector<Mesh>& meshes,
+                            const std::vector<std::size_t>& file_of) {
+  PinMask pins(meshes.size());
+  for (std::size_t m = 0; m < meshes.size(); ++m) pins[m].assign(meshes[m].positions.size(), 0);
+  auto pin = [&](std::size_t file, long long index, const std::string& path, std::size_t line) {
+    long long offset = index;
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+      if (m >= file_of.size() || file_of[m] != file) continue;
+      if (offset < static_cast<long long>(meshes[m].positions.size())) {
+        pins[m][static_cast<std::size_t>(offset)] = 1;
+        return;
+      }
+      offset -= static_cast<long long>(meshes[m].positions.size());
+    }
+    throw Error(ExitCode::kUnreadableInput, path,
+                          "line " + std::to_string(line) + ": vertex " + std::to_string(index) +
+                              " is not in input " + std::to_string(file));
+  };
+  for (const std::string& path : o.pin_files) {
+    std::ifstream in(path);
+    if (!in) throw Error(ExitCode::kUnreadableInput, path, "cannot open pin file");
+    std::string text;
+    std::size_t line = 0;
+    while (std::getline(in, text)) {
+      ++line;
+      text = text.substr(0, text.find('#'));
+      std::istringstream fields(text);
+      std::vector<long long> numbers;
+      long long value = 0;
+      while (fields >> value) numbers.push_back(value);
+      if (!fields.eof()) throw Error(ExitCode::kUnreadableInput, path, "line " + std::to_string(line) + ": not a number");
+      if (numbers.empty()) continue;
+      if (numbers.size() > 2 || numbers.back() < 0 || (numbers.size() == 2 && numbers[0] < 0))
+        throw Error(ExitCode::kUnreadableInput, path, "line " + std::to_string(line) + ": expected VERTEX or INPUT VERTEX");
+      const std::size_t file = numbers.size() == 2 ? static_cast<std::size_t>(numbers[0]) : 0;
+      pin(file, numbers.back(), path, line);
+    }
+  }
+  for (const std::string& group : o.pin_groups) {
+    bool found = false;
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+      const Mesh& mesh = meshes[m];
+      if (mesh.role != Role::kMovable) continue;
+      const bool whole = mesh.name == group && mesh.group_names.empty();
+      for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+        const bool in_group = whole || (!mesh.group_names.empty() && mesh.group_names[mesh.triangle_group[t]] == group);
+        if (!in_group) continue;
+        found = true;
+        for (std::uint32_t v : mesh.triangles[t]) pins[m][v] = 1;
+      }
+    }
+    if (!found) throw Error(ExitCode::kUsage, "", "--pin-group " + group + ": no mesh or group of that name");
+  }
+  return pins;
+}
+
+
+}  // namespace
+
+PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
+  PipelineRun run;
+  const auto start = std::chrono::steady_clock::now();
+  run.outputs = plan_outputs(o);
+  std::vector<std::size_t> file_of;
+  run.meshes = load_all(o, &file_of);
+  for (const auto& m : run.meshes) {
+    run.infos.push_back(describe_mesh(m));
+    run.input.push_back(m.positions);
+  }
+  const PinMask pins = read_pins(o, run.meshes, file_of);
+  run.timings.load = ms_since(start);
+
+  FixOptions& options = run.options;
+  options.method = o.method == "paper" ? FixMethod::kPaper : FixMethod::kRegion;
+  options.max_iterations = o.max_iterations;
+  options.clearance = o.clearance;
+  options.step = o.step;
+  options.outside_closed_obstacles = o.outside_closed;
+  options.threads = o.threads;
+  std::function<Vec3(const Vec3&)> rounding;
+  for (const std::string& out : run.outputs)
+    if (auto r = output_rounding(out)) rounding = r;
+  const auto resolve_start = std::chrono::steady_clock::now();
+  run.result = fix_meshes(run.meshes, options, pins, rounding, progress);
+  run.timings.detect = run.result.detect_ms;
+  run.timings.contours = run.result.contours_ms;
+  run.timings.resolve = ms_since(resolve_start) - run.result.detect_ms - run.result.contours_ms;
+
+  const auto write_start = std::chrono::steady_clock::now();
+  for (std::size_t k = 0; k < o.inputs.size(); ++k) {
+    std::vector<const Mesh*> of_file;
+    for (std::size_t m = 0; m < run.meshes.size(); ++m)
+      if (m < file_of.size() && file_of[m] == k) of_file.push_back(&run.meshes[m]);
+    write_meshes(o.inputs[k], run.outputs[k], of_file);
+  }
+  run.timings.write = ms_since(write_start);
+
+  // The written files are the truth: read them back with the obstacles and detect again.
+  const auto verify_start = std::chrono::steady_clock::now();
+  std::vector<Mesh>& written = run.written;
+  for (const std::string& out : run.outputs)
+    for (auto& m : read_meshes(out, Role::kMovable)) written.push_back(std::move(m));
+  for (const auto& m : run.meshes)
+    if (m.role == Role::kObstacle) written.push_back(m);
+  DetectOptions detect;
+  detect.threads = o.threads;
+  detect.skip_obstacle_pairs = true;
+  run.verified = find_intersections(written, detect);
+  run.timings.verify = ms_since(verify_start);
+  run.timings.total = ms_since(start);
+  return run;
+}
+
+}  // namespace untangle::app

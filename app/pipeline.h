@@ -1,0 +1,64 @@
+// The one repair pipeline of the CLI: load -> fix -> write -> verify. `untangle fix` prints its
+// result; `untangle bench` times it on many scenes. Never prints.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "untangle/fix.h"
+#include "untangle/intersections.h"
+#include "untangle/mesh.h"
+#include "untangle/mesh_info.h"
+#include "untangle/report.h"
+
+namespace untangle::app {
+
+// Options shared by the commands (as parsed by CLI11).
+struct CommonOptions {
+  std::vector<std::string> inputs;
+  std::vector<std::string> obstacles;
+  std::string report;
+  std::string contours;
+  int threads = 0;
+  bool quiet = false;
+  bool verbose = false;
+  // fix
+  std::vector<std::string> outputs;
+  std::string output_dir;
+  std::vector<std::string> pin_files;
+  std::vector<std::string> pin_groups;
+  std::string method = "region";
+  int max_iterations = 200;
+  double clearance = 0.05;
+  double step = 0.25;  // FixOptions::step; not a fix option (yet), varied by bench
+  bool outside_closed = true;
+  bool overwrite = false;
+};
+
+double ms_since(std::chrono::steady_clock::time_point start);
+
+// Reads the positional inputs (movable) and the obstacles, in that order. `file_of` (optional)
+// receives, per movable mesh, the index of its input file.
+std::vector<Mesh> load_all(const CommonOptions& o, std::vector<std::size_t>* file_of = nullptr);
+
+// What one run of the pipeline produced.
+struct PipelineRun {
+  std::vector<std::string> outputs;      // one per movable input
+  std::vector<Mesh> meshes;              // movable then obstacles, positions as fixed
+  std::vector<std::vector<Vec3>> input;  // per mesh, the positions as read
+  std::vector<MeshInfo> infos;           // of the inputs
+  FixOptions options;
+  FixResult result;
+  std::vector<Mesh> written;  // the written files read back, then the obstacles
+  Intersections verified;     // detected on `written`, obstacle pairs left out
+  FixTimingsMs timings;    // load, detect, contours, resolve, write, verify, total
+};
+
+// Plans and checks the outputs (throws Error(kOutputNotWritten) or Error(kUsage) before any
+// work), reads inputs, obstacles and pins, runs fix_meshes, writes the outputs and reads them
+// back for the verdict. `progress` is passed to fix_meshes.
+PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress = {});
+
+}  // namespace untangle::app
