@@ -152,7 +152,7 @@ int main(int argc, char** argv) {
   std::vector<Case> cases;
   for (int n : quick ? std::vector<int>{41, 81, 161} : std::vector<int>{41, 81, 161, 241, 321, 401, 501})
     cases.push_back({"sheet " + std::to_string(n) + "x" + std::to_string(n), n, false});
-  for (int r : quick ? std::vector<int>{32} : std::vector<int>{32, 64, 128, 200, 296})
+  for (int r : quick ? std::vector<int>{32} : std::vector<int>{32, 64, 128, 256, 360})
     cases.push_back({"garment r" + std::to_string(r), r, true});
 
   std::printf("untangle scaling: sheets through a closed capsule, garment-like meshes with a body "

@@ -876,17 +876,68 @@ class Solver {
         halve[v] = 0;
       }
     }
-    bool moved = false;
+    std::vector<Vec3> next;  // the new position of each vertex that moves
+    std::vector<std::uint32_t> movers;
     for (std::uint32_t v = 0; v < nv; ++v) {
       if (!active[v] || norm(delta[v]) == 0.0) continue;
       Vec3 p = add(topo_.points[v], delta[v]);
       if (round_) p = round_(p);
       if (p == topo_.points[v]) continue;
-      topo_.points[v] = p;
-      moved_[v] = 1;
-      moved = true;
+      movers.push_back(v);
+      next.push_back(p);
     }
-    return moved;
+    hold_back_coincident(movers, next);
+    for (std::size_t i = 0; i < movers.size(); ++i) {
+      topo_.points[movers[i]] = next[i];
+      moved_[movers[i]] = 1;
+    }
+    return !movers.empty();
+  }
+
+  // Two vertices of one mesh must never land on one position: read back, they would weld into
+  // one and the written surface would pinch or lose an edge (a closest-point or mirrored move can
+  // put two vertices on one point, most easily on grid-snapped input). A mover that would share
+  // its new position with another vertex of its mesh stays where it is; repeated until no
+  // position is shared (positions before the step are all distinct, so this ends).
+  void hold_back_coincident(std::vector<std::uint32_t>& movers, std::vector<Vec3>& next) const {
+    if (movers.empty()) return;
+    for (;;) {
+      std::vector<std::uint32_t> mover_of(topo_.points.size(), kNone);
+      for (std::size_t i = 0; i < movers.size(); ++i) mover_of[movers[i]] = static_cast<std::uint32_t>(i);
+      // Every vertex of a mesh with a mover, at its position after the step, sorted by position.
+      std::vector<std::uint8_t> mesh_moves(meshes_.size(), 0);
+      for (std::uint32_t v : movers) mesh_moves[topo_.vertex_mesh[v]] = 1;
+      std::vector<std::pair<Vec3, std::uint32_t>> at;
+      for (std::uint32_t m = 0; m < meshes_.size(); ++m) {
+        if (!mesh_moves[m]) continue;
+        for (std::uint32_t v = topo_.mesh_vertex_begin[m]; v < topo_.mesh_vertex_begin[m + 1]; ++v)
+          at.push_back({mover_of[v] != kNone ? next[mover_of[v]] : topo_.points[v], v});
+      }
+      std::sort(at.begin(), at.end());
+      std::vector<std::uint8_t> stay(movers.size(), 0);
+      bool any = false;
+      for (std::size_t i = 0; i + 1 < at.size(); ++i) {
+        if (at[i].first != at[i + 1].first ||
+            topo_.vertex_mesh[at[i].second] != topo_.vertex_mesh[at[i + 1].second])
+          continue;
+        for (std::uint32_t v : {at[i].second, at[i + 1].second}) {
+          if (mover_of[v] != kNone) {
+            stay[mover_of[v]] = 1;
+            any = true;
+          }
+        }
+      }
+      if (!any) return;
+      std::size_t kept = 0;
+      for (std::size_t i = 0; i < movers.size(); ++i) {
+        if (stay[i]) continue;
+        movers[kept] = movers[i];
+        next[kept] = next[i];
+        ++kept;
+      }
+      movers.resize(kept);
+      next.resize(kept);
+    }
   }
 
   // Copies moved welded positions to every input vertex of their group; displacement statistics.
