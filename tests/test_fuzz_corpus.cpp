@@ -1,0 +1,182 @@
+// The fuzz targets' seed corpora (fuzz/corpus), replayed through the same per-input code the
+// libFuzzer targets run (fuzz/fuzz_entries.cpp), so every build checks them; and build_contours on
+// hand-made pathological crossing sets: it must return, list every crossing on exactly one
+// contour and mark the contours whose walk fails as broken.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "contour/build_contours.h"
+#include "detect/detect_crossings.h"
+#include "fuzz_entries.h"
+#include "topology/scene_topology.h"
+
+namespace untangle {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::vector<fs::path> corpus_files(const std::string& name) {
+  std::vector<fs::path> files;
+  for (const auto& entry : fs::directory_iterator(fs::path(UNTANGLE_FUZZ_CORPUS) / name))
+    if (entry.is_regular_file()) files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+std::vector<std::uint8_t> read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+TEST(FuzzCorpus, LoadCorpusReplays) {
+  const std::vector<fs::path> files = corpus_files("load");
+  ASSERT_GE(files.size(), 10u);
+  for (const fs::path& file : files) {
+    SCOPED_TRACE(file.filename().string());
+    const std::vector<std::uint8_t> bytes = read_bytes(file);
+    EXPECT_EQ(fuzz::fuzz_load_one(bytes.data(), bytes.size()), 0);
+  }
+}
+
+TEST(FuzzCorpus, ContoursCorpusReplays) {
+  const std::vector<fs::path> files = corpus_files("contours");
+  ASSERT_GE(files.size(), 5u);
+  for (const fs::path& file : files) {
+    SCOPED_TRACE(file.filename().string());
+    const std::vector<std::uint8_t> bytes = read_bytes(file);
+    EXPECT_EQ(fuzz::fuzz_contours_one(bytes.data(), bytes.size()), 0);
+  }
+}
+
+// ----- build_contours on raw crossing sets -----
+
+Mesh make_mesh(std::vector<Vec3> positions, std::vector<Triangle> triangles) {
+  Mesh mesh;
+  mesh.path = "test";
+  mesh.positions = std::move(positions);
+  mesh.triangles = std::move(triangles);
+  for (std::uint32_t t = 0; t < mesh.triangles.size(); ++t) mesh.polygon.push_back(t);
+  mesh.source_faces = mesh.triangles.size();
+  return mesh;
+}
+
+// A 2 x 2 sheet in z = 0 over [0, 2]^2 and a vertical strip in y = 0.7 that cuts through it.
+std::vector<Mesh> sheet_and_strip() {
+  std::vector<Vec3> grid;
+  for (int j = 0; j <= 2; ++j)
+    for (int i = 0; i <= 2; ++i) grid.push_back({double(i), double(j), 0.0});
+  std::vector<Triangle> tris;
+  for (std::uint32_t j = 0; j < 2; ++j) {
+    for (std::uint32_t i = 0; i < 2; ++i) {
+      const std::uint32_t a = j * 3 + i, b = a + 1, c = a + 3, d = c + 1;
+      tris.push_back({a, b, d});
+      tris.push_back({a, d, c});
+    }
+  }
+  return {make_mesh(grid, tris),
+          make_mesh({{-1.0, 0.7, -1.0}, {3.0, 0.7, -1.0}, {3.0, 0.7, 1.0}, {-1.0, 0.7, 1.0}},
+                    {{0, 1, 2}, {0, 2, 3}})};
+}
+
+// The CrossingSet contract: sorted by (edge, face), unique.
+CrossingSet sorted(std::vector<RawCrossing> items) {
+  std::sort(items.begin(), items.end(), [](const RawCrossing& a, const RawCrossing& b) {
+    return a.edge != b.edge ? a.edge < b.edge : a.face < b.face;
+  });
+  items.erase(std::unique(items.begin(), items.end(),
+                          [](const RawCrossing& a, const RawCrossing& b) {
+                            return a.edge == b.edge && a.face == b.face;
+                          }),
+              items.end());
+  CrossingSet set;
+  set.items = std::move(items);
+  return set;
+}
+
+std::size_t broken_count(const std::vector<TracedContour>& contours) {
+  return static_cast<std::size_t>(std::count_if(contours.begin(), contours.end(),
+                                                [](const TracedContour& c) { return c.broken; }));
+}
+
+struct Scene {
+  std::vector<Mesh> meshes = sheet_and_strip();
+  SceneTopology topo = build_topology(meshes);
+  CrossingSet real = detect_crossings(topo, DetectSettings{});
+};
+
+TEST(BuildContoursRaw, RealDetectionGivesOneUnbrokenContour) {
+  const Scene scene;
+  ASSERT_GE(scene.real.items.size(), 4u);
+  const std::vector<TracedContour> contours = build_contours(scene.topo, scene.real);
+  ASSERT_EQ(contours.size(), 1u);
+  EXPECT_FALSE(contours[0].broken);
+  fuzz::check_contours(scene.topo, scene.real, contours, /*from_detection=*/true);
+}
+
+// Every crossing dropped in turn: the walk meets a link without partner.
+TEST(BuildContoursRaw, MissingPartnerIsBroken) {
+  const Scene scene;
+  for (std::size_t drop = 0; drop < scene.real.items.size(); ++drop) {
+    SCOPED_TRACE(drop);
+    std::vector<RawCrossing> items = scene.real.items;
+    items.erase(items.begin() + static_cast<std::ptrdiff_t>(drop));
+    const CrossingSet set = sorted(items);
+    const std::vector<TracedContour> contours = build_contours(scene.topo, set);
+    EXPECT_GE(broken_count(contours), 1u);
+    fuzz::check_contours(scene.topo, set, contours, /*from_detection=*/false);
+  }
+}
+
+// Invented crossings: an edge "through" a face it belongs to, one through a face it touches, one
+// of the strip's edges through every sheet face (an edge crossing faces that share edges, i.e. one
+// surface several times), plus the real ones.
+TEST(BuildContoursRaw, InventedCrossingsAreSurvived) {
+  const Scene scene;
+  const SceneTopology& topo = scene.topo;
+  std::vector<RawCrossing> items = scene.real.items;
+  auto add = [&](std::uint32_t edge, std::uint32_t face) {
+    items.push_back({edge, face, topo.points[topo.edges[edge][0]]});
+  };
+  add(topo.tri_edges[0][0], 0);
+  add(topo.tri_edges[0][1], 1);
+  const std::uint32_t strip_edge = topo.tri_edges[topo.mesh_tri_begin[1]][0];
+  for (std::uint32_t f = 0; f < topo.mesh_tri_begin[1]; ++f) add(strip_edge, f);
+  const CrossingSet set = sorted(items);
+  const std::vector<TracedContour> contours = build_contours(topo, set);
+  EXPECT_GE(broken_count(contours), 1u);
+  fuzz::check_contours(topo, set, contours, /*from_detection=*/false);
+}
+
+// Crossings on the edges of a zero-area triangle (collinear corners: kept by the topology, unlike
+// triangles with repeated corners) and on a non-manifold edge shared by three triangles.
+TEST(BuildContoursRaw, DegenerateAndNonManifoldEdges) {
+  std::vector<Mesh> meshes = sheet_and_strip();
+  meshes.push_back(make_mesh({{0.5, 0.5, -1.0}, {0.5, 0.5, 0.0}, {0.5, 0.5, 1.0}, {1.5, 0.5, 1.0},
+                              {1.5, 1.5, 1.0}, {0.5, 1.5, -1.0}},
+                             {{0, 1, 2}, {0, 2, 3}, {0, 2, 4}, {0, 2, 5}}));
+  const SceneTopology topo = build_topology(meshes);
+  const CrossingSet real = detect_crossings(topo, DetectSettings{});
+  fuzz::check_contours(topo, real, build_contours(topo, real), /*from_detection=*/true);
+  std::vector<RawCrossing> items = real.items;
+  for (std::uint32_t t = topo.mesh_tri_begin[2]; t < topo.mesh_tri_begin[3]; ++t) {
+    for (std::uint32_t e : topo.tri_edges[t]) {
+      for (std::uint32_t f = 0; f < topo.mesh_tri_begin[1]; f += 3) {
+        items.push_back({e, f, topo.points[topo.edges[e][0]]});
+      }
+    }
+  }
+  const CrossingSet set = sorted(items);
+  const std::vector<TracedContour> contours = build_contours(topo, set);
+  EXPECT_GE(broken_count(contours), 1u);
+  fuzz::check_contours(topo, set, contours, /*from_detection=*/false);
+}
+
+}  // namespace
+}  // namespace untangle
