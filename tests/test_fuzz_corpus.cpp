@@ -15,7 +15,10 @@
 #include "contour/build_contours.h"
 #include "detect/detect_crossings.h"
 #include "fuzz_entries.h"
+#include "test_support.h"
 #include "topology/scene_topology.h"
+#include "untangle/error.h"
+#include "untangle/read_meshes.h"
 
 namespace untangle {
 namespace {
@@ -53,6 +56,45 @@ TEST(FuzzCorpus, ContoursCorpusReplays) {
     const std::vector<std::uint8_t> bytes = read_bytes(file);
     EXPECT_EQ(fuzz::fuzz_contours_one(bytes.data(), bytes.size()), 0);
   }
+}
+
+// ----- what fuzzing found in the loader -----
+
+// The message of read_meshes' error for a file with `content` and `extension`, or "" when it loads
+// (then `triangles` is the number of triangles read).
+std::string load_error(const std::string& content, const std::string& extension,
+                       std::size_t* triangles = nullptr) {
+  testing::TempDir dir;
+  const std::string path = dir.file("input" + extension);
+  std::ofstream(path, std::ios::binary) << content;
+  try {
+    std::size_t count = 0;
+    for (const Mesh& mesh : read_meshes(path, Role::kMovable)) count += mesh.triangles.size();
+    if (triangles != nullptr) *triangles = count;
+    return "";
+  } catch (const Error& e) {
+    return e.what();
+  }
+}
+
+// assimp's OFF importer reads counts glued to the keyword ("OFF3 1 0" is 3 vertices, 1 face): the
+// size check must read them the same way, or a small file makes assimp allocate gigabytes
+// (fuzz/corpus/load/crash_off_count_glued_to_keyword: 0x55555555 vertices, 17 GB).
+TEST(FuzzFindings, OffCountsAreReadAsAssimpReadsThem) {
+  const std::string body = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
+  EXPECT_NE(load_error("OFF" + std::string(68, '3') + "\n4 4 6\n" + body, ".off").find("header claims"),
+            std::string::npos);
+  EXPECT_NE(load_error("OFF1431655765 4 6\n" + body, ".off").find("header claims 1431655765 vertices"),
+            std::string::npos);
+  EXPECT_NE(load_error("COFF4000000000 1 0\n" + body, ".off").find("header claims"), std::string::npos);
+  EXPECT_NE(load_error("nOFF 3 4000000000 1 0\n" + body, ".off").find("header claims"), std::string::npos);
+  EXPECT_NE(load_error("\xEF\xBB\xBFOFF\n4000000000 1 0\n" + body, ".off").find("header claims"),
+            std::string::npos);
+  EXPECT_NE(load_error("OFF3333333333\n4 4 6\n" + body, "").find("header claims"), std::string::npos);
+  // Glued but small: read as assimp reads it.
+  std::size_t triangles = 0;
+  EXPECT_EQ(load_error("OFF4 4 6\n" + body, ".off", &triangles), "");
+  EXPECT_EQ(triangles, 4u);
 }
 
 // ----- build_contours on raw crossing sets -----
