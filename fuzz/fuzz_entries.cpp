@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <system_error>
+#include <utility>
 
 #include "check/summarize.h"
 #include "untangle/error.h"
@@ -22,13 +24,13 @@ namespace {
 
 // Fuzz code may print (the library never does): one line naming the broken invariant, then abort,
 // which libFuzzer turns into a saved crash input and a test run into a failure.
-#define FUZZ_CHECK(condition, what)                                                          \
-  do {                                                                                       \
-    if (!(condition)) {                                                                      \
+#define FUZZ_CHECK(condition, what)                                                         \
+  do {                                                                                      \
+    if (!(condition)) {                                                                     \
       std::fprintf(stderr, "fuzz invariant violated: %s (%s) at %s:%d\n", what, #condition, \
-                   __FILE__, __LINE__);                                                      \
-      std::abort();                                                                          \
-    }                                                                                        \
+                   __FILE__, __LINE__);                                                     \
+      std::abort();                                                                         \
+    }                                                                                       \
   } while (false)
 
 // ----- loader -----
@@ -37,14 +39,22 @@ namespace {
 // (assimp then guesses from the content). The letters make seed files readable: "o" + OBJ text.
 const char* extension_for(std::uint8_t selector) {
   switch (selector) {
-    case 'o': return ".obj";
-    case 'f': return ".off";
-    case 'p': return ".ply";
-    case 's': return ".stl";
-    case 'g': return ".gltf";
-    case 'b': return ".glb";
-    case 'x': return ".fbx";
-    default: break;
+    case 'o':
+      return ".obj";
+    case 'f':
+      return ".off";
+    case 'p':
+      return ".ply";
+    case 's':
+      return ".stl";
+    case 'g':
+      return ".gltf";
+    case 'b':
+      return ".glb";
+    case 'x':
+      return ".fbx";
+    default:
+      break;
   }
   static const char* const kOthers[] = {".obj", ".off", ".ply", ".stl", ".gltf", ".glb",
                                         ".fbx", ".3ds", ".dae", ".x",   ".ms3d", ".lwo",
@@ -53,14 +63,27 @@ const char* extension_for(std::uint8_t selector) {
 }
 
 // One scratch directory per process: parallel fuzzing jobs (-jobs, -workers) must not share files.
+// Removed at exit, so that test runs leave nothing behind.
+class ScratchDirectory {
+ public:
+  ScratchDirectory()
+      : path_(std::filesystem::temp_directory_path() /
+              ("untangle-fuzz-" + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(path_);
+  }
+  ~ScratchDirectory() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
 std::filesystem::path scratch_directory() {
-  static const std::filesystem::path dir = [] {
-    const std::filesystem::path d = std::filesystem::temp_directory_path() /
-                                    ("untangle-fuzz-" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d;
-  }();
-  return dir;
+  static const ScratchDirectory dir;
+  return dir.path();
 }
 
 // Loaded scenes larger than this skip detection: libFuzzer inputs are a few KB, but a small file
@@ -81,7 +104,9 @@ class Bytes {
     return n == 0 ? 0 : ((hi << 8) | next()) % n;
   }
   // A coordinate on the grid {-r/2, ..., r/2} in half units: coarse, so degeneracies are common.
-  double coordinate(int r) { return (static_cast<int>(below(static_cast<std::uint32_t>(r + 1))) - r / 2) * 0.5; }
+  double coordinate(int r) {
+    return (static_cast<int>(below(static_cast<std::uint32_t>(r + 1))) - r / 2) * 0.5;
+  }
   bool empty() const { return pos_ >= size_; }
 
  private:
@@ -164,7 +189,8 @@ void check_detection(const SceneTopology& topo, const CrossingSet& set, bool sel
       const auto& face = topo.tris[f];
       if (!self_pairs && topo.edge_mesh(e) == topo.tri_mesh[f]) continue;
       if (shares_vertex(face, p) || shares_vertex(face, q)) continue;
-      if (edge_crosses_triangle(topo.points, p, q, face[0], face[1], face[2])) expected.push_back({e, f});
+      if (edge_crosses_triangle(topo.points, p, q, face[0], face[1], face[2]))
+        expected.push_back({e, f});
     }
   }
   FUZZ_CHECK(expected.size() == set.items.size(), "detect_crossings finds what brute force finds");
@@ -176,7 +202,8 @@ void check_detection(const SceneTopology& topo, const CrossingSet& set, bool sel
   // or not at all; sharing one vertex, in a segment from it to one crossing or not at all.
   std::vector<std::uint32_t> count(topo.tris.size() * topo.tris.size(), 0);
   for (const RawCrossing& c : set.items) {
-    for (std::uint32_t i = topo.edge_face_begin[c.edge]; i < topo.edge_face_begin[c.edge + 1]; ++i) {
+    for (std::uint32_t i = topo.edge_face_begin[c.edge]; i < topo.edge_face_begin[c.edge + 1];
+         ++i) {
       const std::uint32_t t = topo.edge_faces[i];
       ++count[std::min(t, c.face) * topo.tris.size() + std::max(t, c.face)];
     }
@@ -197,11 +224,11 @@ void check_detection(const SceneTopology& topo, const CrossingSet& set, bool sel
 // A crossing set chosen by the bytes, ids in range: a subset of the real crossings, invented
 // (edge, face) pairs, or both; sorted and unique as CrossingSet requires.
 CrossingSet raw_crossings(Bytes& in, const SceneTopology& topo, const CrossingSet& real) {
-  CrossingSet raw;
+  std::vector<RawCrossing> items;
   const std::uint8_t mode = in.next();
   if ((mode & 1) != 0) {
     for (const RawCrossing& c : real.items)
-      if (in.below(4) != 0) raw.items.push_back(c);
+      if (in.below(4) != 0) items.push_back(c);
   }
   if ((mode & 2) != 0 && !topo.edges.empty() && !topo.tris.empty()) {
     const std::uint32_t invented = in.below(24);
@@ -212,19 +239,26 @@ CrossingSet raw_crossings(Bytes& in, const SceneTopology& topo, const CrossingSe
       const Vec3& p = topo.points[topo.edges[c.edge][0]];
       const Vec3& q = topo.points[topo.edges[c.edge][1]];
       c.point = {0.5 * (p[0] + q[0]), 0.5 * (p[1] + q[1]), 0.5 * (p[2] + q[2])};
-      raw.items.push_back(c);
+      items.push_back(c);
     }
   }
-  auto key = [](const RawCrossing& c) { return std::make_pair(c.edge, c.face); };
-  std::sort(raw.items.begin(), raw.items.end(),
-            [&](const RawCrossing& a, const RawCrossing& b) { return key(a) < key(b); });
-  raw.items.erase(std::unique(raw.items.begin(), raw.items.end(),
-                              [&](const RawCrossing& a, const RawCrossing& b) { return key(a) == key(b); }),
-                  raw.items.end());
-  return raw;
+  return make_crossing_set(std::move(items));
 }
 
 }  // namespace
+
+CrossingSet make_crossing_set(std::vector<RawCrossing> items) {
+  auto key = [](const RawCrossing& c) { return std::make_pair(c.edge, c.face); };
+  std::stable_sort(items.begin(), items.end(),
+                   [&](const RawCrossing& a, const RawCrossing& b) { return key(a) < key(b); });
+  items.erase(
+      std::unique(items.begin(), items.end(),
+                  [&](const RawCrossing& a, const RawCrossing& b) { return key(a) == key(b); }),
+      items.end());
+  CrossingSet set;
+  set.items = std::move(items);
+  return set;
+}
 
 void check_contours(const SceneTopology& topo, const CrossingSet& set,
                     const std::vector<TracedContour>& contours, bool from_detection) {
@@ -234,7 +268,8 @@ void check_contours(const SceneTopology& topo, const CrossingSet& set,
   for (const TracedContour& traced : contours) {
     const Contour& contour = traced.contour;
     FUZZ_CHECK(!contour.crossings.empty(), "a contour has crossings");
-    FUZZ_CHECK(traced.edge_track.size() == contour.crossings.size(), "one track label per crossing");
+    FUZZ_CHECK(traced.edge_track.size() == contour.crossings.size(),
+               "one track label per crossing");
     for (std::size_t k = 0; k < contour.crossings.size(); ++k) {
       FUZZ_CHECK(contour.crossings[k] < n, "contour crossings index into the set");
       FUZZ_CHECK(traced.edge_track[k] <= 1, "track labels are 0 or 1");
@@ -247,13 +282,16 @@ void check_contours(const SceneTopology& topo, const CrossingSet& set,
       FUZZ_CHECK(track.mesh < meshes, "tracks lie on meshes of the scene");
       FUZZ_CHECK(track.cut_edges <= contour.crossings.size(), "cut edges are crossed edges");
       FUZZ_CHECK(std::isfinite(track.smaller_area) && track.smaller_area >= 0.0, "area");
-      if (contour.closed) FUZZ_CHECK(track.type == TrackType::kCL, "closed contours have CL tracks");
+      if (contour.closed)
+        FUZZ_CHECK(track.type == TrackType::kCL, "closed contours have CL tracks");
     }
-    FUZZ_CHECK(contour.polyline.size() >= contour.crossings.size(), "a polyline point per crossing");
+    FUZZ_CHECK(contour.polyline.size() >= contour.crossings.size(),
+               "a polyline point per crossing");
     FUZZ_CHECK(std::isfinite(contour.length) && contour.length >= 0.0, "contour length");
     if (from_detection) FUZZ_CHECK(!traced.broken, "no broken contour from a real detection");
   }
-  for (std::size_t c = 0; c < n; ++c) FUZZ_CHECK(seen[c] == 1, "every crossing on exactly one contour");
+  for (std::size_t c = 0; c < n; ++c)
+    FUZZ_CHECK(seen[c] == 1, "every crossing on exactly one contour");
 
   const Intersections summary = summarize(topo, set, contours);
   FUZZ_CHECK(summary.counts.crossings == n, "summary counts every crossing");
@@ -263,7 +301,8 @@ void check_contours(const SceneTopology& topo, const CrossingSet& set,
 
 int fuzz_load_one(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
-  const std::string path = (scratch_directory() / ("input" + std::string(extension_for(data[0])))).string();
+  const std::string path =
+      (scratch_directory() / ("input" + std::string(extension_for(data[0])))).string();
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data + 1), static_cast<std::streamsize>(size - 1));
@@ -301,9 +340,15 @@ int fuzz_contours_one(const std::uint8_t* data, std::size_t size) {
   std::vector<Mesh> meshes;
   for (std::uint32_t m = 0; m < mesh_count; ++m) {
     switch (in.below(3)) {
-      case 0: meshes.push_back(grid_sheet(in)); break;
-      case 1: meshes.push_back(triangle_soup(in)); break;
-      default: meshes.push_back(tetrahedron(in)); break;
+      case 0:
+        meshes.push_back(grid_sheet(in));
+        break;
+      case 1:
+        meshes.push_back(triangle_soup(in));
+        break;
+      default:
+        meshes.push_back(tetrahedron(in));
+        break;
     }
     meshes.back().path = "fuzz";
   }

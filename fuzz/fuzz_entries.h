@@ -32,6 +32,10 @@ int fuzz_load_one(const std::uint8_t* data, std::size_t size);
 // build_contours must also survive.
 int fuzz_contours_one(const std::uint8_t* data, std::size_t size);
 
+// A crossing set as CrossingSet requires it: sorted by (edge, face), unique (the first of equal
+// pairs is kept).
+CrossingSet make_crossing_set(std::vector<RawCrossing> items);
+
 // The invariants build_contours keeps for any crossing set whose ids are in range (sorted, unique:
 // the CrossingSet contract): contours index into the set, every crossing lies on exactly one
 // contour, and the bookkeeping is consistent. With `from_detection` (the set is a real detection)

@@ -11,6 +11,8 @@
 // are still reported. Built in, so that a plain `untangle_fuzz_load CORPUS` works without
 // LSAN_OPTIONS.
 extern "C" const char* __lsan_default_suppressions() { return "leak:libassimp.so\n"; }
+// One suppression report per input would drown libFuzzer's own output.
+extern "C" const char* __lsan_default_options() { return "print_suppressions=0"; }
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   return untangle::fuzz::fuzz_load_one(data, size);

@@ -82,15 +82,20 @@ std::string load_error(const std::string& content, const std::string& extension,
 // (fuzz/corpus/load/crash_off_count_glued_to_keyword: 0x55555555 vertices, 17 GB).
 TEST(FuzzFindings, OffCountsAreReadAsAssimpReadsThem) {
   const std::string body = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n";
-  EXPECT_NE(load_error("OFF" + std::string(68, '3') + "\n4 4 6\n" + body, ".off").find("header claims"),
+  EXPECT_NE(
+      load_error("OFF" + std::string(68, '3') + "\n4 4 6\n" + body, ".off").find("header claims"),
+      std::string::npos);
+  EXPECT_NE(
+      load_error("OFF1431655765 4 6\n" + body, ".off").find("header claims 1431655765 vertices"),
+      std::string::npos);
+  EXPECT_NE(load_error("COFF4000000000 1 0\n" + body, ".off").find("header claims"),
             std::string::npos);
-  EXPECT_NE(load_error("OFF1431655765 4 6\n" + body, ".off").find("header claims 1431655765 vertices"),
+  EXPECT_NE(load_error("nOFF 3 4000000000 1 0\n" + body, ".off").find("header claims"),
             std::string::npos);
-  EXPECT_NE(load_error("COFF4000000000 1 0\n" + body, ".off").find("header claims"), std::string::npos);
-  EXPECT_NE(load_error("nOFF 3 4000000000 1 0\n" + body, ".off").find("header claims"), std::string::npos);
   EXPECT_NE(load_error("\xEF\xBB\xBFOFF\n4000000000 1 0\n" + body, ".off").find("header claims"),
             std::string::npos);
-  EXPECT_NE(load_error("OFF3333333333\n4 4 6\n" + body, "").find("header claims"), std::string::npos);
+  EXPECT_NE(load_error("OFF3333333333\n4 4 6\n" + body, "").find("header claims"),
+            std::string::npos);
   // Glued but small: read as assimp reads it.
   std::size_t triangles = 0;
   EXPECT_EQ(load_error("OFF4 4 6\n" + body, ".off", &triangles), "");
@@ -127,21 +132,6 @@ std::vector<Mesh> sheet_and_strip() {
                     {{0, 1, 2}, {0, 2, 3}})};
 }
 
-// The CrossingSet contract: sorted by (edge, face), unique.
-CrossingSet sorted(std::vector<RawCrossing> items) {
-  std::sort(items.begin(), items.end(), [](const RawCrossing& a, const RawCrossing& b) {
-    return a.edge != b.edge ? a.edge < b.edge : a.face < b.face;
-  });
-  items.erase(std::unique(items.begin(), items.end(),
-                          [](const RawCrossing& a, const RawCrossing& b) {
-                            return a.edge == b.edge && a.face == b.face;
-                          }),
-              items.end());
-  CrossingSet set;
-  set.items = std::move(items);
-  return set;
-}
-
 std::size_t broken_count(const std::vector<TracedContour>& contours) {
   return static_cast<std::size_t>(std::count_if(contours.begin(), contours.end(),
                                                 [](const TracedContour& c) { return c.broken; }));
@@ -169,7 +159,7 @@ TEST(BuildContoursRaw, MissingPartnerIsBroken) {
     SCOPED_TRACE(drop);
     std::vector<RawCrossing> items = scene.real.items;
     items.erase(items.begin() + static_cast<std::ptrdiff_t>(drop));
-    const CrossingSet set = sorted(items);
+    const CrossingSet set = fuzz::make_crossing_set(items);
     const std::vector<TracedContour> contours = build_contours(scene.topo, set);
     EXPECT_GE(broken_count(contours), 1u);
     fuzz::check_contours(scene.topo, set, contours, /*from_detection=*/false);
@@ -190,7 +180,7 @@ TEST(BuildContoursRaw, InventedCrossingsAreSurvived) {
   add(topo.tri_edges[0][1], 1);
   const std::uint32_t strip_edge = topo.tri_edges[topo.mesh_tri_begin[1]][0];
   for (std::uint32_t f = 0; f < topo.mesh_tri_begin[1]; ++f) add(strip_edge, f);
-  const CrossingSet set = sorted(items);
+  const CrossingSet set = fuzz::make_crossing_set(items);
   const std::vector<TracedContour> contours = build_contours(topo, set);
   EXPECT_GE(broken_count(contours), 1u);
   fuzz::check_contours(topo, set, contours, /*from_detection=*/false);
@@ -200,8 +190,12 @@ TEST(BuildContoursRaw, InventedCrossingsAreSurvived) {
 // triangles with repeated corners) and on a non-manifold edge shared by three triangles.
 TEST(BuildContoursRaw, DegenerateAndNonManifoldEdges) {
   std::vector<Mesh> meshes = sheet_and_strip();
-  meshes.push_back(make_mesh({{0.5, 0.5, -1.0}, {0.5, 0.5, 0.0}, {0.5, 0.5, 1.0}, {1.5, 0.5, 1.0},
-                              {1.5, 1.5, 1.0}, {0.5, 1.5, -1.0}},
+  meshes.push_back(make_mesh({{0.5, 0.5, -1.0},
+                              {0.5, 0.5, 0.0},
+                              {0.5, 0.5, 1.0},
+                              {1.5, 0.5, 1.0},
+                              {1.5, 1.5, 1.0},
+                              {0.5, 1.5, -1.0}},
                              {{0, 1, 2}, {0, 2, 3}, {0, 2, 4}, {0, 2, 5}}));
   const SceneTopology topo = build_topology(meshes);
   const CrossingSet real = detect_crossings(topo, DetectSettings{});
@@ -214,7 +208,7 @@ TEST(BuildContoursRaw, DegenerateAndNonManifoldEdges) {
       }
     }
   }
-  const CrossingSet set = sorted(items);
+  const CrossingSet set = fuzz::make_crossing_set(items);
   const std::vector<TracedContour> contours = build_contours(topo, set);
   EXPECT_GE(broken_count(contours), 1u);
   fuzz::check_contours(topo, set, contours, /*from_detection=*/false);
