@@ -876,12 +876,17 @@ void collect(const aiScene& scene, const std::string& path, Role role, std::vect
 std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std::string& extension,
                                    std::uint64_t size) {
   Assimp::Importer importer;
-  const bool known_extension = importer.IsExtensionSupported(extension);
   const std::string start = file_start(path, 16);
-  if (extension == ".ply" || (!known_extension && lower(start.substr(0, 3)) == "ply")) {
+  // The checks go by content, not only by extension: when the importer of a known extension
+  // refuses a file, assimp tries every importer on its content, so a PLY file named .glb reaches
+  // the PLY importer (which looped forever on it without end_header: found by fuzzing). The one
+  // exception is .stl: the STL importer takes every .stl file, and a binary STL's free 80-byte
+  // header may start with anything.
+  const bool stl = extension == ".stl";
+  if (extension == ".ply" || (!stl && lower(start.substr(0, 3)) == "ply")) {
     check_ply(path, size);
   }
-  if (extension == ".glb" || (!known_extension && start.compare(0, 4, "glTF") == 0)) {
+  if (extension == ".glb" || (!stl && start.compare(0, 4, "glTF") == 0)) {
     check_glb(path, size);
   } else if (extension == ".gltf") {
     check_gltf(path, size);
@@ -889,7 +894,7 @@ std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std
   std::string_view first(start);
   const std::string keyword = lower(std::string(next_token(first)));
   // "off" anywhere in the first word: assimp also takes "OFF3" (counts glued to it) for OFF.
-  if (extension == ".off" || (!known_extension && keyword.find("off") != std::string::npos)) {
+  if (extension == ".off" || (!stl && keyword.find("off") != std::string::npos)) {
     check_off_counts(path, size);
   }
 
