@@ -170,19 +170,26 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
   std::vector<TracedContour> out;
   out.reserve(members.size());
   std::vector<std::uint8_t> label(n, 0);
+  std::vector<std::uint8_t> placed(n, 0);  // already in the current contour's order
   for (const std::vector<std::uint32_t>& nodes : members) {
     TracedContour traced;
     Contour& contour = traced.contour;
+    const std::uint32_t id = component[nodes.front()];
+    // Links are symmetric for a real detection (the 0-or-2 property). In an arbitrary set a
+    // crossing may link to one of an earlier contour that does not link back; such a link is not
+    // followed, so that every crossing lies on exactly one contour, and the contour is broken.
+    auto inside = [&](const Link& link) {
+      return link.kind == LinkKind::kCrossing && component[link.target] == id;
+    };
     bool branched = false;
     std::uint32_t start = nodes.front();
     bool start_found = false;
     for (std::uint32_t c : nodes) {
-      std::size_t crossing_links = 0;
       bool end = false;
       for (std::uint32_t i = link_begin[c]; i < link_begin[c + 1]; ++i) {
-        if (links[i].kind == LinkKind::kCrossing) ++crossing_links;
-        else end = true;
-        if (links[i].kind == LinkKind::kBroken) traced.broken = true;
+        if (!inside(links[i])) end = true;
+        const bool leaves = links[i].kind == LinkKind::kCrossing && !inside(links[i]);
+        if (links[i].kind == LinkKind::kBroken || leaves) traced.broken = true;
       }
       if (topo.edge_face_count(set.items[c].edge) >= 3) {
         branched = true;
@@ -196,16 +203,19 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
 
     std::vector<std::uint32_t> order;
     std::vector<std::uint8_t> track;
+    bool walked = false;
     if (!branched) {
       // Walk the chain (or cycle) from an end, never leaving through the pair we came in by.
       order.push_back(start);
       track.push_back(0);
+      placed[start] = 1;
       std::array<std::uint32_t, 2> arrival{kNone, kNone};
       std::uint32_t cur = start;
+      walked = true;
       for (;;) {
         const Link* next = nullptr;
         for (std::uint32_t i = link_begin[cur]; i < link_begin[cur + 1]; ++i) {
-          if (links[i].kind == LinkKind::kCrossing && links[i].pair != arrival) {
+          if (inside(links[i]) && links[i].pair != arrival) {
             next = &links[i];
             break;
           }
@@ -216,32 +226,46 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
           contour.closed = true;
           break;
         }
-        if (order.size() > nodes.size()) {  // cannot happen on a simple chain; never loop forever
-          traced.broken = true;
+        if (placed[next->target]) {  // runs into itself: not a simple chain (arbitrary sets only)
+          walked = false;
           break;
         }
         order.push_back(next->target);
         track.push_back(lab);
+        placed[next->target] = 1;
         arrival = next->pair;
         cur = next->target;
       }
-      if (order.size() != nodes.size()) traced.broken = true;
-    } else {
-      // Non-manifold edges branch the curve: keep every crossing, labels by breadth-first search.
-      std::vector<std::uint8_t> seen(n, 0);
-      order.push_back(start);
-      track.push_back(0);
-      seen[start] = 1;
-      for (std::size_t k = 0; k < order.size(); ++k) {
-        const std::uint32_t c = order[k];
-        for (std::uint32_t i = link_begin[c]; i < link_begin[c + 1]; ++i) {
-          if (links[i].kind != LinkKind::kCrossing || seen[links[i].target]) continue;
-          seen[links[i].target] = 1;
-          order.push_back(links[i].target);
-          track.push_back(static_cast<std::uint8_t>(track[k] ^ (links[i].swap ? 1 : 0)));
-        }
-      }
+      if (order.size() != nodes.size()) walked = false;
+      if (!walked) traced.broken = true;
     }
+    if (!walked) {
+      // Non-manifold edges branch the curve, and a walk that failed left crossings out: keep every
+      // crossing of the component once, labels by breadth-first search from the start (and from
+      // any crossing not reached, which only an arbitrary set can leave).
+      for (std::uint32_t c : order) placed[c] = 0;
+      order.clear();
+      track.clear();
+      contour.closed = false;
+      auto grow = [&](std::uint32_t root) {
+        if (placed[root]) return;
+        placed[root] = 1;
+        order.push_back(root);
+        track.push_back(0);
+        for (std::size_t k = order.size() - 1; k < order.size(); ++k) {
+          const std::uint32_t c = order[k];
+          for (std::uint32_t i = link_begin[c]; i < link_begin[c + 1]; ++i) {
+            if (!inside(links[i]) || placed[links[i].target]) continue;
+            placed[links[i].target] = 1;
+            order.push_back(links[i].target);
+            track.push_back(static_cast<std::uint8_t>(track[k] ^ (links[i].swap ? 1 : 0)));
+          }
+        }
+      };
+      grow(start);
+      for (std::uint32_t c : nodes) grow(c);
+    }
+    for (std::uint32_t c : order) placed[c] = 0;
     for (std::size_t k = 0; k < order.size(); ++k) label[order[k]] = track[k];
 
     const RawCrossing& first = set.items[order.front()];

@@ -21,6 +21,10 @@ struct TracedContour {
 
 // Builds the contours of a crossing set and classifies both tracks of each: type from the ends on
 // each track's mesh boundary, cut edges, and (for CL and BB tracks) separation by flood fill.
+// Any set whose ids are in range (sorted and unique, as CrossingSet requires) is safe, not only a
+// real detection: every crossing lies on exactly one contour, and a contour whose links are
+// inconsistent (a missing partner, a link into another contour, a chain that runs into itself)
+// is marked broken and lists its crossings in breadth-first order.
 std::vector<TracedContour> build_contours(const SceneTopology& topology,
                                           const CrossingSet& crossings);
 

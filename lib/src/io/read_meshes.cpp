@@ -779,27 +779,6 @@ Result on_large_stack(Work work) {
 
 // ----- OFF variants read by assimp (COFF, NOFF, ...): counts checked against the size -----
 
-// assimp allocates the header's vertex and face counts at once. Like our own OFF reader, require
-// that they can fit: a vertex line has at least "0 0 0\n", a face line at least "0\n".
-void check_off_counts(const std::string& path, std::uint64_t size) {
-  std::ifstream in(path, std::ios::binary);
-  std::string text;
-  std::vector<std::string> tokens;
-  std::size_t lines = 0;
-  while (tokens.size() < 3 && lines < 64 && std::getline(in, text)) {
-    ++lines;
-    std::string_view line(text);
-    line = line.substr(0, std::min(line.find('#'), std::size_t{256}));
-    for (std::string_view t = next_token(line); !t.empty(); t = next_token(line))
-      tokens.emplace_back(t);
-  }
-  unsigned long long nv = 0, nf = 0;
-  if (tokens.size() < 3 || !parse_number(tokens[1], nv) || !parse_number(tokens[2], nf)) return;
-  if (nv > size || nf > size || 6 * nv + 2 * nf > size + 1)
-    fail(path, "header claims " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
-                   " faces, more than the file (" + std::to_string(size) + " bytes) can hold");
-}
-
 // The first bytes of the file, for telling formats apart when the extension does not.
 std::string file_start(const std::string& path, std::size_t n) {
   std::ifstream in(path, std::ios::binary);
@@ -807,6 +786,59 @@ std::string file_start(const std::string& path, std::size_t n) {
   in.read(bytes.data(), static_cast<std::streamsize>(n));
   bytes.resize(static_cast<std::size_t>(std::max<std::streamsize>(in.gcount(), 0)));
   return bytes;
+}
+
+// assimp allocates the header's vertex and face counts at once. Like our own OFF reader, require
+// that they can fit: a vertex line has at least "0 0 0\n", a face line at least "0\n". assimp
+// reads the header as a character stream, not as lines or tokens: blanks, line ends and # comment
+// lines, the optional prefixes ST, C, N, 4 and n, then OFF, directly followed by the counts if no
+// blank separates them ("OFF3 1 0" claims 3 vertices), a dimension after nOFF, and counts as
+// 32-bit numbers that wrap on overflow. The header is read here exactly the same way: a looser
+// reading once let "OFF333...3\n4 4 6" pass as 4 vertices, and assimp allocated 17 GB (found by
+// fuzzing).
+void check_off_counts(const std::string& path, std::uint64_t size) {
+  constexpr std::size_t kHeaderBytes = std::size_t{1} << 20;
+  const std::string text = file_start(path, kHeaderBytes);
+  // assimp converts UTF-16 and UTF-32 text before parsing; such OFF files do not occur in practice.
+  if (text.compare(0, 2, "\xFF\xFE") == 0 || text.compare(0, 2, "\xFE\xFF") == 0 ||
+      text.compare(0, 4, std::string("\0\0\xFE\xFF", 4)) == 0)
+    fail(path, "OFF file in UTF-16 or UTF-32; untangle reads OFF as ASCII or UTF-8");
+  std::size_t pos = text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0;  // assimp drops the BOM
+  auto at = [&](std::size_t k) { return pos + k < text.size() ? text[pos + k] : '\0'; };
+  auto skip_blanks = [&] {  // assimp's NextToken
+    for (;;) {
+      while (at(0) == ' ' || at(0) == '\t' || at(0) == '\r' || at(0) == '\n') ++pos;
+      if (at(0) != '#') return;
+      while (pos < text.size() && at(0) != '\n' && at(0) != '\r') ++pos;
+    }
+  };
+  auto number = [&] {  // assimp's strtoul10
+    std::uint32_t value = 0;
+    for (; at(0) >= '0' && at(0) <= '9'; ++pos)
+      value = value * 10 + static_cast<std::uint32_t>(at(0) - '0');
+    return std::uint64_t{value};
+  };
+  skip_blanks();
+  if (at(0) == 'S' && at(1) == 'T') pos += 2;
+  if (at(0) == 'C') ++pos;
+  if (at(0) == 'N') ++pos;
+  if (at(0) == '4') ++pos;
+  const bool has_dimension = at(0) == 'n';
+  if (has_dimension) ++pos;
+  if (at(0) == 'O' && at(1) == 'F' && at(2) == 'F') pos += 3;
+  skip_blanks();
+  if (has_dimension) {
+    number();
+    skip_blanks();
+  }
+  const std::uint64_t nv = number();
+  skip_blanks();
+  const std::uint64_t nf = number();
+  if (pos >= text.size() && text.size() < size)
+    fail(path, "OFF header longer than " + std::to_string(kHeaderBytes) + " bytes");
+  if (nv > size || nf > size || 6 * nv + 2 * nf > size + 1)
+    fail(path, "header claims " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
+                   " faces, more than the file (" + std::to_string(size) + " bytes) can hold");
 }
 
 // Each instance of a mesh is copied with its world transform. What the copies add on top of the
@@ -898,20 +930,25 @@ void collect(const aiScene& scene, const std::string& path, Role role, std::vect
 std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std::string& extension,
                                    std::uint64_t size) {
   Assimp::Importer importer;
-  const bool known_extension = importer.IsExtensionSupported(extension);
   const std::string start = file_start(path, 16);
-  if (extension == ".ply" || (!known_extension && lower(start.substr(0, 3)) == "ply")) {
+  // The checks go by content, not only by extension: when the importer of a known extension
+  // refuses a file, assimp tries every importer on its content, so a PLY file named .glb reaches
+  // the PLY importer (which looped forever on it without end_header: found by fuzzing). The one
+  // exception is .stl: the STL importer takes every .stl file, and a binary STL's free 80-byte
+  // header may start with anything.
+  const bool stl = extension == ".stl";
+  if (extension == ".ply" || (!stl && lower(start.substr(0, 3)) == "ply")) {
     check_ply(path, size);
   }
-  if (extension == ".glb" || (!known_extension && start.compare(0, 4, "glTF") == 0)) {
+  if (extension == ".glb" || (!stl && start.compare(0, 4, "glTF") == 0)) {
     check_glb(path, size);
   } else if (extension == ".gltf") {
     check_gltf(path, size);
   }
   std::string_view first(start);
   const std::string keyword = lower(std::string(next_token(first)));
-  if (extension == ".off" || (!known_extension && keyword.size() >= 3 &&
-                              keyword.compare(keyword.size() - 3, 3, "off") == 0)) {
+  // "off" anywhere in the first word: assimp also takes "OFF3" (counts glued to it) for OFF.
+  if (extension == ".off" || (!stl && keyword.find("off") != std::string::npos)) {
     check_off_counts(path, size);
   }
 
