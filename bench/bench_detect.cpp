@@ -114,14 +114,16 @@ std::string best_median(const Stat& s) {
 
 int main(int argc, char** argv) {
   bool quick = false;
-  int profile_runs = 0;  // --profile N: only our between-mesh detection at n = 81, N times
+  int profile_runs = 0;  // --profile N [between|self]: only ours at n = 81, N times
+  std::string profile_part;  // empty: both
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
     } else if (std::strcmp(argv[i], "--profile") == 0 && i + 1 < argc) {
       profile_runs = std::max(1, std::atoi(argv[++i]));
+      if (i + 1 < argc && argv[i + 1][0] != '-') profile_part = argv[++i];
     } else if (std::strcmp(argv[i], "-h") == 0 || std::strcmp(argv[i], "--help") == 0) {
-      std::printf("usage: %s [--quick] [--profile N]\n  --quick  only n = 81 with 3 repeats\n"
+      std::printf("usage: %s [--quick] [--profile N [between|self]]\n  --quick  only n = 81 with 3 repeats\n"
                   "  --profile N  only ours at n = 81, N times: between the meshes, then the sheet "
                   "alone (for a profiler)\n",
                   argv[0]);
@@ -144,12 +146,16 @@ int main(int argc, char** argv) {
   if (profile_runs > 0) {
     const untangle::scenes::Scene scene = untangle::scenes::sheet_through_cow(81);
     const std::vector<untangle::Mesh> meshes = untangle::scenes::scene_meshes(scene);
-    const OursRun run = run_ours(meshes, 0, profile_runs, false);
-    std::printf("ours between, n = 81: total %s, prepared %s ms (best / median of %d)\n",
-                best_median(run.total).c_str(), best_median(run.prepared).c_str(), profile_runs);
-    const OursRun self = run_ours({meshes[0]}, 0, profile_runs);
-    std::printf("ours sheet self, n = 81: total %s, prepared %s ms (best / median of %d)\n",
-                best_median(self.total).c_str(), best_median(self.prepared).c_str(), profile_runs);
+    if (profile_part != "self") {
+      const OursRun run = run_ours(meshes, 0, profile_runs, false);
+      std::printf("ours between, n = 81: total %s, prepared %s ms (best / median of %d)\n",
+                  best_median(run.total).c_str(), best_median(run.prepared).c_str(), profile_runs);
+    }
+    if (profile_part != "between") {
+      const OursRun self = run_ours({meshes[0]}, 0, profile_runs);
+      std::printf("ours sheet self, n = 81: total %s, prepared %s ms (best / median of %d)\n",
+                  best_median(self.total).c_str(), best_median(self.prepared).c_str(), profile_runs);
+    }
     return 0;
   }
   const std::vector<int> sizes = quick ? std::vector<int>{81}

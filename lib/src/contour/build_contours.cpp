@@ -310,16 +310,19 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
   }
 
   // Track types, cut edges and separation.
-  // A vertex's share of area: a third of each incident triangle. Each triangle at v is reached
-  // through its two edges at v, so each visit adds a sixth. Computed only for the vertices of a
-  // separated side, not for the whole scene.
+  // A vertex's share of area: a third of each incident triangle, each reached once, through the
+  // edge from v to the corner that follows v in it. Computed only for the vertices of a separated
+  // side, not for the whole scene.
   auto vertex_area = [&](std::uint32_t v) {
     double area = 0.0;
     for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
       const std::uint32_t e = topo.vertex_edges[i];
+      const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
       for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
         const auto& tri = topo.tris[topo.edge_faces[k]];
-        area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) / 6.0;
+        const int at = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
+        if (tri[(at + 1) % 3] != w) continue;
+        area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) / 3.0;
       }
     }
     return area;
