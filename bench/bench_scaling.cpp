@@ -3,8 +3,9 @@
 // body poking through it. For each scene: detection + contours (find_intersections, as `check`),
 // the repair (fix_meshes), and the peak resident memory of the process that ran it.
 //
-// Usage: untangle_bench_scaling [--quick] [--threads N]
-//   --quick  the three smallest sheets and the smallest garment only
+// Usage: untangle_bench_scaling [--quick] [--threads N] [--sheet N]... [--garment R]...
+//   --quick      the three smallest sheets and the smallest garment only
+//   --sheet N    only an N x N sheet (repeatable); --garment R: only a garment of resolution R
 // Every scene runs in a child process of its own (fork), so the peak resident memory printed is
 // that scene's alone (getrusage of the child). Times are wall-clock, std::chrono::steady_clock.
 #include <sys/resource.h>
@@ -135,13 +136,20 @@ bool run_isolated(const Case& c, int threads, Measured& out, long& peak_kb) {
 int main(int argc, char** argv) {
   bool quick = false;
   int threads = 0;
+  std::vector<Case> only;  // --sheet N / --garment R: just these
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
     } else if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
       threads = std::atoi(argv[++i]);
+    } else if ((std::strcmp(argv[i], "--sheet") == 0 || std::strcmp(argv[i], "--garment") == 0) &&
+               i + 1 < argc) {
+      const bool garment = argv[i][2] == 'g';
+      const int size = std::atoi(argv[++i]);
+      only.push_back(
+          {std::string(garment ? "garment r" : "sheet n=") + std::to_string(size), size, garment});
     } else if (std::strcmp(argv[i], "-h") == 0 || std::strcmp(argv[i], "--help") == 0) {
-      std::printf("usage: %s [--quick] [--threads N]\n", argv[0]);
+      std::printf("usage: %s [--quick] [--threads N] [--sheet N]... [--garment R]...\n", argv[0]);
       return 0;
     } else {
       std::fprintf(stderr, "error: unknown argument '%s' (usage: %s [--quick] [--threads N])\n",
@@ -149,18 +157,22 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  std::vector<Case> cases;
-  for (int n : quick ? std::vector<int>{41, 81, 161} : std::vector<int>{41, 81, 161, 241, 321, 401, 501})
-    cases.push_back({"sheet " + std::to_string(n) + "x" + std::to_string(n), n, false});
-  for (int r : quick ? std::vector<int>{32} : std::vector<int>{32, 64, 128, 256, 360})
-    cases.push_back({"garment r" + std::to_string(r), r, true});
+  std::vector<Case> cases = only;
+  if (only.empty())
+    for (int n :
+         quick ? std::vector<int>{41, 81, 161} : std::vector<int>{41, 81, 161, 241, 321, 401, 501})
+      cases.push_back({"sheet " + std::to_string(n) + "x" + std::to_string(n), n, false});
+  if (only.empty())
+    for (int r : quick ? std::vector<int>{32} : std::vector<int>{32, 64, 128, 256, 360})
+      cases.push_back({"garment r" + std::to_string(r), r, true});
 
-  std::printf("untangle scaling: sheets through a closed capsule, garment-like meshes with a body "
-              "through them; threads %d; one child process per scene\n\n",
-              threads);
-  std::printf("%-18s %9s %10s %9s %5s %10s %9s %9s %5s %6s %10s %8s %12s\n", "scene",
-              "vertices", "triangles", "crossings", "cont", "detect ms", "contours", "fix ms",
-              "iter", "after", "fix det ms", "peak MB", "ns/tri check");
+  std::printf(
+      "untangle scaling: sheets through a closed capsule, garment-like meshes with a body "
+      "through them; threads %d; one child process per scene\n\n",
+      threads);
+  std::printf("%-18s %9s %10s %9s %5s %10s %9s %9s %5s %6s %10s %8s %12s\n", "scene", "vertices",
+              "triangles", "crossings", "cont", "detect ms", "contours", "fix ms", "iter", "after",
+              "fix det ms", "peak MB", "ns/tri check");
   double first_ns = 0.0;
   for (const Case& c : cases) {
     Measured m;
@@ -169,7 +181,8 @@ int main(int argc, char** argv) {
       std::printf("%-18s failed\n", c.name.c_str());
       continue;
     }
-    const double ns_per_triangle = 1e6 * (m.detect_ms + m.contours_ms) / static_cast<double>(m.triangles);
+    const double ns_per_triangle =
+        1e6 * (m.detect_ms + m.contours_ms) / static_cast<double>(m.triangles);
     if (first_ns == 0.0) first_ns = ns_per_triangle;
     std::printf("%-18s %9zu %10zu %9zu %5zu %10.1f %9.1f %9.1f %5d %6zu %10.1f %8.1f %12.0f\n",
                 c.name.c_str(), m.vertices, m.triangles, m.crossings, m.contours, m.detect_ms,
@@ -177,8 +190,9 @@ int main(int argc, char** argv) {
                 static_cast<double>(peak_kb) / 1024.0, ns_per_triangle);
     std::fflush(stdout);
   }
-  std::printf("\nns/tri check: detection + contours per triangle of the scene (flat = linear growth)."
-              "\nfix det ms: detection inside fix, all iterations (the first full, then only what "
-              "moved).\n");
+  std::printf(
+      "\nns/tri check: detection + contours per triangle of the scene (flat = linear growth)."
+      "\nfix det ms: detection inside fix, all iterations (the first full, then only what "
+      "moved).\n");
   return 0;
 }
