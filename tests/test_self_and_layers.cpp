@@ -11,6 +11,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <cstdlib>
 #include <set>
 #include <sstream>
 #include <string>
@@ -305,18 +306,18 @@ TEST_P(SelfWicke, EndsWithZeroCrossings) {
 
   // Configurations fix does not resolve yet (issue 4 is open: tracks that separate nothing on one
   // mesh, loop vertices, crossing contours). The configuration checks above still run; the repair
-  // is skipped with a visible reason so the suite reports them instead of hiding them.
+  // is skipped with a visible reason so the suite reports them instead of hiding them;
+  // UNTANGLE_ALL_WICKE=1 runs their repair too (to see which of them a change resolves).
   static const std::set<std::string> kOpen = {
       "boundary_boundary_subdivided4", "boundary_interior_subdivided0",
       "boundary_interior_subdivided2", "boundary_interior_subdivided4",
       "boundary_interior_permuted",    "loop_vertex_subdivided0",
       "loop_vertex_subdivided2",       "loop_vertex_subdivided4",
-      "loop_vertex_permuted",          "crossing_contours_subdivided0",
-      "crossing_contours_subdivided2", "crossing_contours_subdivided4",
-      "crossing_contours_permuted",    "figure_eight_subdivided2",
+      "loop_vertex_permuted",          "crossing_contours_subdivided2",
+      "crossing_contours_subdivided4", "figure_eight_subdivided2",
       "figure_eight_subdivided4",      "loop_to_loop_subdivided2",
       "loop_to_loop_subdivided4"};
-  if (kOpen.count(variant_name(variant)) > 0) {
+  if (std::getenv("UNTANGLE_ALL_WICKE") == nullptr && kOpen.count(variant_name(variant)) > 0) {
     GTEST_SKIP() << "issue 4 open: fix does not resolve " << variant_name(variant) << " yet";
   }
   const Fixed fixed = fix_and_redetect(meshes);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <set>
 
 #include "check/summarize.h"
 #include "contour/build_contours.h"
@@ -617,14 +618,26 @@ class Solver {
   // other surface and over it (their closest point on it is not on its boundary), grown from the
   // crossing edges; of the (up to) four such flaps, the one with the least area moves across the
   // other surface like a region. What remains near the boundary goes to the per-crossing rule.
+  //
+  // A contour of one component with itself that separates nothing (a flap of a sheet through its
+  // own base across the base's edge, contours through loop vertices) is treated the same way, with
+  // a local patch as "the other surface": the other track's faces and edges at the crossings,
+  // grown by a few rings, never into this side's own crossing corners; its rim counts as boundary.
   void flap_move(const CrossingSet& set, const TracedContour& t,
                  std::map<std::uint32_t, std::unique_ptr<MeshTree>>& trees,
                  std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
     const Contour& c = t.contour;
-    if (c.closed || c.tracks[0].type != TrackType::kBI || c.tracks[1].type != TrackType::kBI) return;
+    if (c.closed) return;
     const std::uint32_t components[2] = {track_component(topo_, set, t, 0),
                                          track_component(topo_, set, t, 1)};
-    if (components[0] == components[1]) return;
+    const bool self = components[0] == components[1];
+    if (self) {
+      // Contours through loop vertices unfold by the per-crossing rule, which pushes the two
+      // triangles at the loop vertex apart; a flap there would include the pinch itself.
+      if (c.tracks[0].separates || c.tracks[1].separates || c.loop_vertices > 0) return;
+    } else if (c.tracks[0].type != TrackType::kBI || c.tracks[1].type != TrackType::kBI) {
+      return;
+    }
     for (std::uint32_t ci : c.crossings) {
       const RawCrossing& x = set.items[ci];
       for (std::uint32_t v : topo_.edges[x.edge])
@@ -632,24 +645,89 @@ class Solver {
       for (std::uint32_t v : topo_.tris[x.face])
         if (in_moving_set[v]) return;
     }
+    // The corners of the crossings on track k: endpoints of its crossing edges, corners of the
+    // faces the other track's edges pass through.
+    auto corners_of = [&](int k) {
+      std::vector<std::uint32_t> out;
+      for (std::size_t i = 0; i < c.crossings.size(); ++i) {
+        const RawCrossing& x = set.items[c.crossings[i]];
+        if (t.edge_track[i] == k)
+          for (std::uint32_t v : topo_.edges[x.edge]) out.push_back(v);
+        else
+          for (std::uint32_t v : topo_.tris[x.face]) out.push_back(v);
+      }
+      std::sort(out.begin(), out.end());
+      out.erase(std::unique(out.begin(), out.end()), out.end());
+      return out;
+    };
     struct Flap {
       double area = INFINITY;
       int track = -1;
       std::vector<std::uint32_t> vertices;
     };
     Flap best;
+    std::unique_ptr<MeshTree> patches[2];  // per track: the other surface, for a self contour
     for (int k = 0; k < 2; ++k) {
       const std::uint32_t own = components[k], other = components[1 - k];
       const std::uint32_t mesh = topo_.component_mesh[own];
       if (meshes_[mesh].role != Role::kMovable) continue;
-      const MeshTree& tree = component_tree(other, trees);
+      const std::vector<std::uint32_t> seeds = corners_of(k);
+      std::set<std::pair<std::uint32_t, std::uint32_t>> rim;  // a self patch's edges of one face
+      std::vector<std::uint8_t> in_patch;
+      const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
+      if (self) {
+        in_patch.assign(topo_.mesh_vertex_begin[mesh + 1] - base, 0);
+        std::vector<std::uint8_t> own_corner(in_patch.size(), 0);
+        for (std::uint32_t v : seeds) own_corner[v - base] = 1;
+        std::vector<std::uint32_t> frontier;
+        for (std::uint32_t v : corners_of(1 - k)) {
+          if (own_corner[v - base]) continue;
+          in_patch[v - base] = 1;
+          frontier.push_back(v);
+        }
+        for (int ring = 0; ring < 3; ++ring) {
+          const std::vector<std::uint32_t> current = frontier;
+          for (std::uint32_t v : current)
+            for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+              const auto& e = topo_.edges[topo_.vertex_edges[j]];
+              const std::uint32_t w = e[0] == v ? e[1] : e[0];
+              if (in_patch[w - base] || own_corner[w - base]) continue;
+              in_patch[w - base] = 1;
+              frontier.push_back(w);
+            }
+        }
+        std::vector<std::uint32_t> tris;
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+        for (std::uint32_t f = topo_.mesh_tri_begin[mesh]; f < topo_.mesh_tri_begin[mesh + 1]; ++f) {
+          const auto& tri = topo_.tris[f];
+          if (topo_.tri_component(f) != own || !in_patch[tri[0] - base] || !in_patch[tri[1] - base] ||
+              !in_patch[tri[2] - base])
+            continue;
+          tris.push_back(f);
+          for (int e = 0; e < 3; ++e)
+            ++uses[{std::min(tri[e], tri[(e + 1) % 3]), std::max(tri[e], tri[(e + 1) % 3])}];
+        }
+        if (tris.empty()) continue;
+        for (const auto& [edge, count] : uses)
+          if (count == 1) rim.insert(edge);
+        patches[k] = build_tree(topo_, tris);
+      }
+      const MeshTree& tree = self ? *patches[k] : component_tree(other, trees);
       if (tree.triangles.empty()) continue;
+      auto beyond_edge = [&](std::uint32_t a, std::uint32_t b) {
+        if (self) return rim.count({std::min(a, b), std::max(a, b)}) > 0;
+        return topo_.is_boundary(topo_.find_edge(a, b));
+      };
       // Side of the other surface (+1, -1) where the vertex is over it, 0 where its closest point
       // lies on the other surface's boundary (beyond it).
       std::map<std::uint32_t, int> side;
       auto side_of = [&](std::uint32_t v) {
         const auto it = side.find(v);
         if (it != side.end()) return it->second;
+        if (self && in_patch[v - base]) {
+          side.emplace(v, 0);
+          return 0;
+        }
         const Vec3& p = topo_.points[v];
         const auto hit = tree.tree.closest_point_and_primitive(Kernel::Point_3(p[0], p[1], p[2]));
         const std::uint32_t face =
@@ -666,24 +744,11 @@ class Solver {
           if (len2 == 0.0) continue;
           const double along = std::clamp(dot(sub(q, a), ab) / len2, 0.0, 1.0);
           const double off = norm(sub(q, add(a, scale(ab, along))));
-          if (off <= 1e-9 * std::sqrt(len2) &&
-              topo_.is_boundary(topo_.find_edge(f[e], f[(e + 1) % 3])))
-            result = 0;
+          if (off <= 1e-9 * std::sqrt(len2) && beyond_edge(f[e], f[(e + 1) % 3])) result = 0;
         }
         side.emplace(v, result);
         return result;
       };
-      // Seeds: this component's corners of the contour's crossings.
-      std::vector<std::uint32_t> seeds;
-      for (std::uint32_t ci : c.crossings) {
-        const RawCrossing& x = set.items[ci];
-        if (topo_.vertex_component[topo_.edges[x.edge][0]] == own)
-          for (std::uint32_t v : topo_.edges[x.edge]) seeds.push_back(v);
-        if (topo_.tri_component(x.face) == own)
-          for (std::uint32_t v : topo_.tris[x.face]) seeds.push_back(v);
-      }
-      std::sort(seeds.begin(), seeds.end());
-      seeds.erase(std::unique(seeds.begin(), seeds.end()), seeds.end());
       // A flap is small next to its component: one that grows past a quarter of it is a side of
       // the surface, not a flap.
       const std::size_t component_size = component_size_[own];
@@ -730,10 +795,10 @@ class Solver {
     }
     if (best.track < 0) return;
     const std::uint32_t own = components[best.track], other = components[1 - best.track];
-    const MeshTree& tree = component_tree(other, trees);
+    const MeshTree& tree = self ? *patches[best.track] : component_tree(other, trees);
     for (std::uint32_t v : best.vertices) in_moving_set[v] = 1;
-    move_regions(topo_.component_mesh[own], region_settings_.orientation[other], best.vertices, tree,
-                 moves);
+    move_regions(topo_.component_mesh[own], self ? 0 : region_settings_.orientation[other],
+                 best.vertices, tree, moves);
   }
 
   int label(const RegionAnalysis& analysis, std::uint32_t v, std::uint32_t partner) const {
