@@ -30,14 +30,9 @@ using testing::run_cli;
 using testing::TempDir;
 using testing::write_text;
 
-scenes::Scene scene_named(const std::string& name) {
-  for (auto& s : scenes::named_scenes())
-    if (s.name == name) return s;
-  ADD_FAILURE() << "no generated scene named " << name;
-  return {};
-}
-
 using Files = testing::SceneFiles;
+using testing::contour_signatures;
+using testing::scene_named;
 using testing::write_scene;
 
 // "" when equal, else the first line where the texts differ (the files are too long to print).
@@ -236,22 +231,6 @@ struct Permutation {
 };
 constexpr Permutation kPermutations[] = {
     {"vertices", true, false}, {"faces", false, true}, {"vertices and faces", true, true}};
-
-// Per contour: its two tracks as (mesh, type, separates), sorted, with closed and self; a multiset.
-using ContourSignature = std::tuple<std::array<std::tuple<int, std::string, bool>, 2>, bool, bool>;
-std::multiset<ContourSignature> contour_signatures(const nlohmann::json& report) {
-  std::multiset<ContourSignature> out;
-  for (const auto& c : report["contours"]) {
-    std::array<std::tuple<int, std::string, bool>, 2> tracks;
-    for (int k = 0; k < 2; ++k) {
-      tracks[k] = {c["meshes"][k].get<int>(), c["types"][k].get<std::string>(),
-                   c["separates"][k].get<bool>()};
-    }
-    std::sort(tracks.begin(), tracks.end());
-    out.insert({tracks, c["closed"].get<bool>(), c["self"].get<bool>()});
-  }
-  return out;
-}
 
 std::vector<double> sorted_lengths(const nlohmann::json& report) {
   std::vector<double> lengths;

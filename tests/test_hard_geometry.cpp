@@ -282,21 +282,6 @@ TEST(HardGeometry, ZeroAreaTrianglesAndZeroLengthEdgesAreCountedAndHarmless) {
 
 // ---- scale and position ----
 
-// Per contour: its two tracks as (mesh, type, separates), sorted, with closed and self.
-using Signature = std::tuple<std::array<std::tuple<int, std::string, bool>, 2>, bool, bool>;
-std::multiset<Signature> signatures(const nlohmann::json& report) {
-  std::multiset<Signature> out;
-  for (const auto& c : report["contours"]) {
-    std::array<std::tuple<int, std::string, bool>, 2> tracks;
-    for (int k = 0; k < 2; ++k)
-      tracks[k] = {c["meshes"][k].get<int>(), c["types"][k].get<std::string>(),
-                   c["separates"][k].get<bool>()};
-    std::sort(tracks.begin(), tracks.end());
-    out.insert({tracks, c["closed"].get<bool>(), c["self"].get<bool>()});
-  }
-  return out;
-}
-
 struct Placement {
   const char* name;
   double factor;
@@ -326,20 +311,14 @@ void expect_same_under_placements(const Scene& base, const std::vector<Placement
     for (const char* key : {"crossings", "triangle_pairs", "contours", "tracks", "pairs",
                             "loop_vertices", "non_separating"})
       EXPECT_EQ(found.report["before"][key], reference_check.report["before"][key]) << key;
-    EXPECT_EQ(signatures(found.report), signatures(reference_check.report));
+    EXPECT_EQ(testing::contour_signatures(found.report),
+              testing::contour_signatures(reference_check.report));
     const Repair r = fix_and_verify(scene, dir.file(std::string(p.name) + "_fix"));
     expect_repaired(r);
     if (r.fix.report.is_object()) {
       EXPECT_NEAR(r.fix.report["iterations"].get<int>(), reference_iterations, iteration_slack);
     }
   }
-}
-
-Scene named(const std::string& name) {
-  for (auto& s : scenes::named_scenes())
-    if (s.name == name) return s;
-  ADD_FAILURE() << "no generated scene named " << name;
-  return {};
 }
 
 // Scaled by 1e-4 ... 1e4 and moved by 1e5: the scaled coordinates are rounded, so these are scenes
@@ -352,7 +331,7 @@ TEST_P(ScaleAndPosition, SameCrossingsContoursAndIterations) {
       {"scaled_1e-4", 1e-4, {0, 0, 0}},     {"scaled_1e-2", 1e-2, {0, 0, 0}},
       {"scaled_1e2", 1e2, {0, 0, 0}},       {"scaled_1e4", 1e4, {0, 0, 0}},
       {"moved_1e5", 1.0, {1e5, -1e5, 1e5}}, {"scaled_1e3_moved_1e5", 1e3, {1e5, 1e5, -1e5}}};
-  expect_same_under_placements(named(GetParam()), placements, 1);
+  expect_same_under_placements(testing::scene_named(GetParam()), placements, 1);
 }
 
 INSTANTIATE_TEST_SUITE_P(HardGeometry, ScaleAndPosition,
@@ -364,7 +343,7 @@ INSTANTIATE_TEST_SUITE_P(HardGeometry, ScaleAndPosition,
 // sheets_corner, scaled and moved with rounding: its near-degenerate crossing may come out either
 // way, but the BI/BI contour resolves on the written files wherever the scene is.
 TEST(HardGeometry, CornerOverlapResolvesAtEveryScaleAndPosition) {
-  const Scene base = named("sheets_corner");
+  const Scene base = testing::scene_named("sheets_corner");
   TempDir dir;
   for (const auto& [factor, offset] : std::vector<std::pair<double, Vec3>>{
            {1e-4, {0, 0, 0}}, {1e4, {0, 0, 0}}, {1.0, {1e5, -1e5, 1e5}}, {1e3, {1e5, 1e5, -1e5}}}) {
@@ -385,7 +364,7 @@ TEST_P(ExactScale, SameCrossingsContoursAndIterations) {
                                              {"scaled_2^-3", std::ldexp(1.0, -3), {0, 0, 0}},
                                              {"scaled_2^5", std::ldexp(1.0, 5), {0, 0, 0}},
                                              {"scaled_2^14", std::ldexp(1.0, 14), {0, 0, 0}}};
-  const Scene base = GetParam() < 0 ? named("sheets_corner")
+  const Scene base = GetParam() < 0 ? testing::scene_named("sheets_corner")
                                     : degenerate_scenes().at(static_cast<std::size_t>(GetParam()));
   SCOPED_TRACE(base.name);
   expect_same_under_placements(base, placements, 0);
