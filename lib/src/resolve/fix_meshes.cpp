@@ -383,6 +383,49 @@ class Solver {
   // through its outer layer): the illegal side next to each track, by the component's own labels;
   // the smaller one moves across the sheet of the other track (its crossed faces and two rings
   // around them, the moving side's own triangles left out).
+  // A patch of one mesh near a contour: `seeds` grown by `rings` rings of neighbours, never into
+  // the vertices flagged in `excluded` (indexed v - the mesh's first vertex); `in_sheet` receives
+  // the patch's vertices, the result its triangles (all three corners in it), ascending. The cost
+  // follows the patch, not the mesh.
+  std::vector<std::uint32_t> local_sheet(std::uint32_t mesh, const std::vector<std::uint32_t>& seeds,
+                                         const std::vector<std::uint8_t>& excluded, int rings,
+                                         std::vector<std::uint8_t>& in_sheet) const {
+    const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
+    in_sheet.assign(topo_.mesh_vertex_begin[mesh + 1] - base, 0);
+    std::vector<std::uint32_t> members;
+    auto add = [&](std::uint32_t v) {
+      if (in_sheet[v - base] || excluded[v - base]) return;
+      in_sheet[v - base] = 1;
+      members.push_back(v);
+    };
+    for (std::uint32_t v : seeds) add(v);
+    std::size_t ring_start = 0;
+    for (int ring = 0; ring < rings; ++ring) {
+      const std::size_t ring_end = members.size();
+      for (std::size_t i = ring_start; i < ring_end; ++i) {
+        const std::uint32_t v = members[i];
+        for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+          const auto& e = topo_.edges[topo_.vertex_edges[j]];
+          add(e[0] == v ? e[1] : e[0]);
+        }
+      }
+      ring_start = ring_end;
+    }
+    std::vector<std::uint32_t> tris;
+    for (std::uint32_t v : members)
+      for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+        const std::uint32_t e = topo_.vertex_edges[j];
+        for (std::uint32_t k = topo_.edge_face_begin[e]; k < topo_.edge_face_begin[e + 1]; ++k) {
+          const auto& tri = topo_.tris[topo_.edge_faces[k]];
+          if (in_sheet[tri[0] - base] && in_sheet[tri[1] - base] && in_sheet[tri[2] - base])
+            tris.push_back(topo_.edge_faces[k]);
+        }
+      }
+    std::sort(tris.begin(), tris.end());
+    tris.erase(std::unique(tris.begin(), tris.end()), tris.end());
+    return tris;
+  }
+
   void self_contour_move(const CrossingSet& set, const TracedContour& traced,
                          const RegionAnalysis& analysis, std::vector<std::uint8_t>& in_moving_set,
                          Moves& moves) {
@@ -431,35 +474,17 @@ class Solver {
     for (std::uint32_t v : side[k]) moving[v - base] = 1;
 
     // The other sheet: faces of track 1-k at the crossings, grown by two rings.
-    std::vector<std::uint8_t> in_sheet(end - base, 0);
-    std::vector<std::uint32_t> frontier;
-    auto add_vertex = [&](std::uint32_t v) {
-      if (!in_sheet[v - base] && !moving[v - base]) {
-        in_sheet[v - base] = 1;
-        frontier.push_back(v);
-      }
-    };
+    std::vector<std::uint32_t> sheet_seeds;
     for (std::size_t i = 0; i < c.crossings.size(); ++i) {
       const RawCrossing& x = set.items[c.crossings[i]];
       if (traced.edge_track[i] == k) {
-        for (std::uint32_t v : topo_.tris[x.face]) add_vertex(v);
+        for (std::uint32_t v : topo_.tris[x.face]) sheet_seeds.push_back(v);
       } else {
-        for (std::uint32_t v : topo_.edges[x.edge]) add_vertex(v);
+        for (std::uint32_t v : topo_.edges[x.edge]) sheet_seeds.push_back(v);
       }
     }
-    for (int ring = 0; ring < 2; ++ring) {
-      const std::vector<std::uint32_t> current = frontier;
-      for (std::uint32_t v : current)
-        for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
-          const auto& e = topo_.edges[topo_.vertex_edges[j]];
-          add_vertex(e[0] == v ? e[1] : e[0]);
-        }
-    }
-    std::vector<std::uint32_t> tris;
-    for (std::uint32_t t = topo_.mesh_tri_begin[mesh]; t < topo_.mesh_tri_begin[mesh + 1]; ++t) {
-      const auto& tri = topo_.tris[t];
-      if (in_sheet[tri[0] - base] && in_sheet[tri[1] - base] && in_sheet[tri[2] - base]) tris.push_back(t);
-    }
+    std::vector<std::uint8_t> in_sheet;
+    const std::vector<std::uint32_t> tris = local_sheet(mesh, sheet_seeds, moving, 2, in_sheet);
     const std::unique_ptr<MeshTree> tree = build_tree(topo_, tris);
     std::vector<std::uint32_t> still;
     for (std::uint32_t v : side[k])
@@ -687,34 +712,12 @@ class Solver {
       std::vector<std::uint8_t> in_patch;
       const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
       if (self) {
-        in_patch.assign(topo_.mesh_vertex_begin[mesh + 1] - base, 0);
-        std::vector<std::uint8_t> own_corner(in_patch.size(), 0);
+        std::vector<std::uint8_t> own_corner(topo_.mesh_vertex_begin[mesh + 1] - base, 0);
         for (std::uint32_t v : seeds) own_corner[v - base] = 1;
-        std::vector<std::uint32_t> frontier;
-        for (std::uint32_t v : corners_of(1 - k)) {
-          if (own_corner[v - base]) continue;
-          in_patch[v - base] = 1;
-          frontier.push_back(v);
-        }
-        for (int ring = 0; ring < 3; ++ring) {
-          const std::vector<std::uint32_t> current = frontier;
-          for (std::uint32_t v : current)
-            for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
-              const auto& e = topo_.edges[topo_.vertex_edges[j]];
-              const std::uint32_t w = e[0] == v ? e[1] : e[0];
-              if (in_patch[w - base] || own_corner[w - base]) continue;
-              in_patch[w - base] = 1;
-              frontier.push_back(w);
-            }
-        }
-        std::vector<std::uint32_t> tris;
+        const std::vector<std::uint32_t> tris = local_sheet(mesh, corners_of(1 - k), own_corner, 3, in_patch);
         std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
-        for (std::uint32_t f = topo_.mesh_tri_begin[mesh]; f < topo_.mesh_tri_begin[mesh + 1]; ++f) {
+        for (std::uint32_t f : tris) {
           const auto& tri = topo_.tris[f];
-          if (topo_.tri_component(f) != own || !in_patch[tri[0] - base] || !in_patch[tri[1] - base] ||
-              !in_patch[tri[2] - base])
-            continue;
-          tris.push_back(f);
           for (int e = 0; e < 3; ++e)
             ++uses[{std::min(tri[e], tri[(e + 1) % 3]), std::max(tri[e], tri[(e + 1) % 3])}];
         }
