@@ -309,14 +309,9 @@ TEST_P(SelfWicke, EndsWithZeroCrossings) {
   // is skipped with a visible reason so the suite reports them instead of hiding them;
   // UNTANGLE_ALL_WICKE=1 runs their repair too (to see which of them a change resolves).
   static const std::set<std::string> kOpen = {
-      "boundary_boundary_subdivided4", "boundary_interior_subdivided0",
-      "boundary_interior_subdivided2", "boundary_interior_subdivided4",
-      "boundary_interior_permuted",    "loop_vertex_subdivided0",
+      "boundary_boundary_subdivided4", "boundary_interior_subdivided4",
       "loop_vertex_subdivided2",       "loop_vertex_subdivided4",
-      "loop_vertex_permuted",          "crossing_contours_subdivided2",
-      "crossing_contours_subdivided4", "figure_eight_subdivided2",
-      "figure_eight_subdivided4",      "loop_to_loop_subdivided2",
-      "loop_to_loop_subdivided4"};
+      "crossing_contours_subdivided2", "crossing_contours_subdivided4"};
   if (std::getenv("UNTANGLE_ALL_WICKE") == nullptr && kOpen.count(variant_name(variant)) > 0) {
     GTEST_SKIP() << "issue 4 open: fix does not resolve " << variant_name(variant) << " yet";
   }
@@ -339,7 +334,6 @@ void expect_self_fix(Mesh mesh, std::size_t min_self_contours) {
 
 // A square sheet whose far half folds back through its near half along a line across it.
 TEST(SelfLarge, SheetFoldedThroughItself) {
-  GTEST_SKIP() << "issue 4 open: fix leaves one BI/II contour through a loop vertex";
   expect_self_fix(scenes::folded_through_itself(41, 25), 1);
 }
 

@@ -83,15 +83,28 @@ int orient_2d(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
                                             K::Point_2(c[i], c[j])));
 }
 
-// Whether triangles t and u (sharing at most one vertex) provably yield no crossing under every
-// infinitesimal perturbation, so the exact tests can be skipped: the non-shared corners of one lie
-// strictly on one side of the other's plane, or the two are coplanar and a line through an edge of
-// one strictly separates them (with a shared vertex: a line through it and an edge). Flat sheets
-// make most neighbouring pairs coplanar, where the perturbed tests would otherwise do all the work.
 bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
-  const auto& a = topo.tris[t];
-  const auto& b = topo.tris[u];
-  const std::vector<Vec3>& P = topo.points;
+  return triangles_surely_apart(topo.points, topo.tris[t], topo.tris[u]);
+}
+
+template <class Body>
+void run_parallel(int threads, std::size_t n, std::size_t grain, const Body& body) {
+  auto loop = [&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+  };
+  if (threads > 0) {
+    tbb::task_arena arena(threads);
+    arena.execute(loop);
+  } else {
+    loop();
+  }
+}
+
+}  // namespace
+
+bool triangles_surely_apart(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3>& a,
+                            const std::array<std::uint32_t, 3>& b) {
   auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const std::array<std::uint32_t, 3>& other,
                       bool& coplanar) {
     int pos = 0, neg = 0, zero = 0;
@@ -167,21 +180,6 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
   return separates(a, b, turn_a) || separates(b, a, turn_b);
 }
 
-template <class Body>
-void run_parallel(int threads, std::size_t n, std::size_t grain, const Body& body) {
-  auto loop = [&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
-  };
-  if (threads > 0) {
-    tbb::task_arena arena(threads);
-    arena.execute(loop);
-  } else {
-    loop();
-  }
-}
-
-}  // namespace
 
 std::uint32_t CrossingSet::find(std::uint32_t edge, std::uint32_t face) const {
   auto it = std::lower_bound(items.begin(), items.end(), std::make_pair(edge, face),

@@ -42,6 +42,15 @@ struct DetectSettings {
 bool edge_crosses_triangle(const std::vector<Vec3>& points, std::uint32_t p, std::uint32_t q,
                            std::uint32_t a, std::uint32_t b, std::uint32_t c);
 
+// Whether triangles a and b (corner ids into `points`, sharing at most one vertex) provably yield
+// no crossing under every infinitesimal perturbation, so the exact tests can be skipped: the
+// non-shared corners of one lie strictly on one side of the other's plane, or the two are coplanar
+// and a line through an edge of one strictly separates them (with a shared vertex: a line through
+// it and an edge). Flat sheets make most neighbouring pairs coplanar, where the perturbed tests
+// would otherwise do all the work.
+bool triangles_surely_apart(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& a,
+                            const std::array<std::uint32_t, 3>& b);
+
 // The crossing point constructed in double (within the segment; steering only).
 Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c);
 

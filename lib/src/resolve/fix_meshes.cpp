@@ -10,6 +10,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <set>
@@ -20,6 +21,7 @@
 #include "detect/orientation.h"
 #include "detect/triangle_bvh.h"
 #include "resolve/region_analysis.h"
+#include "resolve/trial_move.h"
 #include "topology/scene_topology.h"
 
 namespace untangle {
@@ -94,6 +96,12 @@ struct Moves {
   }
 };
 
+// Rings of neighbours around the other track's crossings that stand for "the other surface" of
+// a self contour.
+constexpr int kPatchRings = 3;
+// The largest set of vertices whose moves are measured before they are made (TrialMove).
+constexpr std::size_t kMeasuredVertices = 400;
+
 class Solver {
  public:
   Solver(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
@@ -139,6 +147,9 @@ class Solver {
     component_size_.assign(topo_.component_mesh.size(), 0);
     for (std::uint32_t v = 0; v < nv; ++v) ++component_size_[topo_.vertex_component[v]];
     start_points_ = topo_.points;
+    member_.assign(nv, 0);
+    seen_.assign(nv, 0);
+    normal_.assign(nv, Vec3{0, 0, 0});
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, settings_.skip_among);
     settings_.skipped_bvh = obstacle_bvh_.get();
   }
@@ -199,6 +210,10 @@ class Solver {
       }
       if (iteration >= options_.max_iterations) break;
       before_step = topo_.points;
+      hierarchy_ = hierarchy.get();
+      if (!trial_) trial_ = std::make_unique<TrialMove>(topo_);
+      trial_->sync(set);
+      trial_budget_ = topo_.tris.size() / 4 + 5000;
       const bool moved = step(set, traced, result);
       result.resolve_ms += ms(t2, Clock::now());
       result.displace_ms = result.resolve_ms - result.regions_ms;
@@ -426,6 +441,33 @@ class Solver {
     return tris;
   }
 
+  // Rings from `seeds` to every vertex of `mesh` (indexed v - the mesh's first vertex), counted up
+  // to `limit`; farther vertices get limit + 1.
+  std::vector<int> ring_distance(std::uint32_t mesh, const std::vector<std::uint32_t>& seeds, int limit) const {
+    const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
+    std::vector<int> d(topo_.mesh_vertex_begin[mesh + 1] - base, limit + 1);
+    std::vector<std::uint32_t> front;
+    for (std::uint32_t v : seeds)
+      if (d[v - base] != 0) {
+        d[v - base] = 0;
+        front.push_back(v);
+      }
+    for (int ring = 1; ring <= limit && !front.empty(); ++ring) {
+      std::vector<std::uint32_t> next;
+      for (std::uint32_t v : front)
+        for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+          const auto& e = topo_.edges[topo_.vertex_edges[j]];
+          const std::uint32_t w = e[0] == v ? e[1] : e[0];
+          if (d[w - base] > ring) {
+            d[w - base] = ring;
+            next.push_back(w);
+          }
+        }
+      front = std::move(next);
+    }
+    return d;
+  }
+
   void self_contour_move(const CrossingSet& set, const TracedContour& traced,
                          const RegionAnalysis& analysis, std::vector<std::uint8_t>& in_moving_set,
                          Moves& moves) {
@@ -465,75 +507,167 @@ class Solver {
       }
       for (std::uint32_t v : side[k]) area[k] += vertex_edge_[v] * vertex_edge_[v];
     }
-    int k = -1;
-    if (!side[0].empty() && (side[1].empty() || area[0] <= area[1])) k = 0;
-    else if (!side[1].empty()) k = 1;
-    if (k < 0) return;
-    std::sort(side[k].begin(), side[k].end());
-    std::vector<std::uint8_t> moving(end - base, 0);
-    for (std::uint32_t v : side[k]) moving[v - base] = 1;
-
-    // The other sheet: faces of track 1-k at the crossings, grown by two rings.
-    std::vector<std::uint32_t> sheet_seeds;
-    for (std::size_t i = 0; i < c.crossings.size(); ++i) {
-      const RawCrossing& x = set.items[c.crossings[i]];
-      if (traced.edge_track[i] == k) {
-        for (std::uint32_t v : topo_.tris[x.face]) sheet_seeds.push_back(v);
-      } else {
-        for (std::uint32_t v : topo_.edges[x.edge]) sheet_seeds.push_back(v);
+    // Each side's move across the other sheet (the other track's faces at the crossings, grown by
+    // two rings), measured; the best that removes crossings is made, else the smaller side moves.
+    std::unique_ptr<MeshTree> trees[2];
+    std::vector<Candidate> candidates;
+    for (int k = 0; k < 2; ++k) {
+      if (side[k].empty()) continue;
+      std::sort(side[k].begin(), side[k].end());
+      std::vector<std::uint8_t> moving(end - base, 0);
+      for (std::uint32_t v : side[k]) moving[v - base] = 1;
+      std::vector<std::uint32_t> sheet_seeds;
+      for (std::size_t i = 0; i < c.crossings.size(); ++i) {
+        const RawCrossing& x = set.items[c.crossings[i]];
+        if (traced.edge_track[i] == k) {
+          for (std::uint32_t v : topo_.tris[x.face]) sheet_seeds.push_back(v);
+        } else {
+          for (std::uint32_t v : topo_.edges[x.edge]) sheet_seeds.push_back(v);
+        }
       }
+      std::vector<std::uint8_t> in_sheet;
+      trees[k] = build_tree(topo_, local_sheet(mesh, sheet_seeds, moving, 2, in_sheet));
+      std::vector<std::uint32_t> still;
+      for (std::uint32_t v : side[k])
+        if (!moves.has_region[v]) still.push_back(v);  // a vertex moves once per iteration
+      if (!still.empty()) candidates.push_back({mesh, 0, std::move(still), trees[k].get()});
     }
-    std::vector<std::uint8_t> in_sheet;
-    const std::vector<std::uint32_t> tris = local_sheet(mesh, sheet_seeds, moving, 2, in_sheet);
-    const std::unique_ptr<MeshTree> tree = build_tree(topo_, tris);
-    std::vector<std::uint32_t> still;
-    for (std::uint32_t v : side[k])
-      if (!moves.has_region[v]) still.push_back(v);  // a vertex moves once per iteration
-    for (std::uint32_t v : still) in_moving_set[v] = 1;
-    move_regions(mesh, 0, still, *tree, moves);
+    if (candidates.empty()) return;
+    const Choice chosen = measured_choice(set, candidates);
+    if (chosen.gain > 0) {
+      for (std::uint32_t v : chosen.part) in_moving_set[v] = 1;
+      add_region_move(chosen.part, chosen.delta, moves);
+      return;
+    }
+    const int k = !side[0].empty() && (side[1].empty() || area[0] <= area[1]) ? 0 : 1;
+    const Candidate* smaller = nullptr;
+    for (const Candidate& candidate : candidates)
+      if (candidate.tree == trees[k].get()) smaller = &candidate;
+    if (smaller == nullptr) return;
+    for (std::uint32_t v : smaller->vertices) in_moving_set[v] = 1;
+    move_regions(mesh, 0, smaller->vertices, *smaller->tree, moves);
   }
 
-  // Moves every connected part of an illegal set across the partner surface. Three candidate
-  // moves per part, and the one that strains the part's edges least wins:
+  // A set of vertices that could move across another surface (`tree`), as a region.
+  struct Candidate {
+    std::uint32_t mesh;
+    int orientation;
+    std::vector<std::uint32_t> vertices;
+    const MeshTree* tree;
+  };
+  struct Choice {
+    long long gain = std::numeric_limits<long long>::min();  // crossings removed
+    double strain = INFINITY;
+    std::vector<std::uint32_t> part;
+    std::vector<Vec3> delta;
+  };
+
+  // Every connected part of every candidate with every move of part_moves, counted exactly
+  // (TrialMove): the one that removes most crossings, the least strain breaking ties.
+  Choice measured_choice(const CrossingSet& set, const std::vector<Candidate>& candidates) {
+    Choice chosen;
+    for (const Candidate& candidate : candidates) {
+      // Measuring a move costs about what re-detecting the triangles it touches does (some six per
+      // vertex). A step measures at most about one detection's worth, in contour order, and sets
+      // larger than kMeasuredVertices (a side of a sheet rather than a flap) go unmeasured.
+      const std::size_t cost = 6 * 4 * candidate.vertices.size();
+      if (candidate.vertices.size() > kMeasuredVertices || cost > trial_budget_) continue;
+      trial_budget_ -= cost;
+      for (PartMoves& p : part_moves(candidate.mesh, candidate.orientation, candidate.vertices, *candidate.tree)) {
+        for (std::size_t o = 0; o < p.options.size(); ++o) {
+          std::vector<Vec3> at(p.part.size());
+          for (std::size_t i = 0; i < p.part.size(); ++i) {
+            at[i] = add(topo_.points[p.part[i]], p.options[o][i]);
+            if (round_) at[i] = round_(at[i]);
+          }
+          const TrialCount count = trial_->count(settings_, *hierarchy_, set, p.part, at, true);
+          const long long gain = static_cast<long long>(count.before) - static_cast<long long>(count.after);
+          if (gain > chosen.gain || (gain == chosen.gain && p.strain[o] < chosen.strain)) {
+            chosen.gain = gain;
+            chosen.strain = p.strain[o];
+            chosen.part = p.part;
+            chosen.delta = p.options[o];
+          }
+        }
+      }
+    }
+    return chosen;
+  }
+
+  // One connected part of a set to move and its candidate displacements (per vertex of `part`,
+  // ascending), each with its strain.
+  struct PartMoves {
+    std::vector<std::uint32_t> part;
+    std::vector<std::vector<Vec3>> options;
+    std::vector<double> strain;
+    std::size_t least_strain() const {
+      return static_cast<std::size_t>(std::min_element(strain.begin(), strain.end()) - strain.begin());
+    }
+  };
+
+  // Moves every connected part of an illegal set across the partner surface by the candidate that
+  // strains the part's edges least (part_moves).
+  void move_regions(std::uint32_t mesh, int orientation, const std::vector<std::uint32_t>& vertices,
+                    const MeshTree& tree, Moves& moves) {
+    for (const PartMoves& p : part_moves(mesh, orientation, vertices, tree))
+      add_region_move(p.part, p.options[p.least_strain()], moves);
+  }
+
+  void add_region_move(const std::vector<std::uint32_t>& part, const std::vector<Vec3>& delta, Moves& moves) {
+    for (std::size_t i = 0; i < part.size(); ++i) {
+      moves.region[part[i]] = add(moves.region[part[i]], delta[i]);
+      moves.has_region[part[i]] = 1;
+    }
+  }
+
+  // The connected parts of a set and, for each, the candidate moves across the partner surface:
   //  - to the closest point of the partner, plus the clearance (a thin layer stays thin);
   //  - mirrored through that closest point (a part sticking far through folds back, keeping its
   //    shape instead of collapsing onto the surface);
-  //  - along the part's own normal to where that ray leaves the partner (a sheet cut through the
-  //    middle of a closed body bulges over it instead of being squeezed sideways).
-  void move_regions(std::uint32_t mesh, int orientation, const std::vector<std::uint32_t>& vertices,
-                    const MeshTree& tree, Moves& moves) {
-    if (tree.triangles.empty()) return;
+  //  - along the part's own normal to where that ray leaves the partner, either way (a sheet cut
+  //    through the middle of a closed body bulges over it instead of being squeezed sideways).
+  std::vector<PartMoves> part_moves(std::uint32_t mesh, int orientation,
+                                    const std::vector<std::uint32_t>& vertices, const MeshTree& tree) {
+    std::vector<PartMoves> out;
+    if (tree.triangles.empty()) return out;
     const double clearance = options_.clearance * mean_edge_[mesh];
-    const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
-    const std::uint32_t end = topo_.mesh_vertex_begin[mesh + 1];
-    std::vector<std::uint8_t> member(end - base, 0);
-    for (std::uint32_t v : vertices) member[v - base] = 1;
+    // Scratch flags and normals indexed by welded vertex, cleared again before returning: the
+    // cost follows the set, not the mesh.
+    std::vector<std::uint8_t>& member = member_;
+    for (std::uint32_t v : vertices) member[v] = 1;
 
-    // Vertex normals of the mesh (area weighted).
-    std::vector<Vec3> normal(end - base, Vec3{0, 0, 0});
-    for (std::uint32_t t = topo_.mesh_tri_begin[mesh]; t < topo_.mesh_tri_begin[mesh + 1]; ++t) {
+    // Vertex normals (area weighted) at the set and its neighbours, from the triangles it touches
+    // in ascending order.
+    std::vector<std::uint32_t> touching;
+    for (std::uint32_t v : vertices)
+      for (std::uint32_t k = topo_.vertex_edge_begin[v]; k < topo_.vertex_edge_begin[v + 1]; ++k) {
+        const std::uint32_t e = topo_.vertex_edges[k];
+        for (std::uint32_t i = topo_.edge_face_begin[e]; i < topo_.edge_face_begin[e + 1]; ++i)
+          touching.push_back(topo_.edge_faces[i]);
+      }
+    std::sort(touching.begin(), touching.end());
+    touching.erase(std::unique(touching.begin(), touching.end()), touching.end());
+    std::vector<Vec3>& normal = normal_;
+    for (std::uint32_t t : touching) {
       const auto& tri = topo_.tris[t];
-      bool touches = false;
-      for (std::uint32_t v : tri) touches = touches || member[v - base];
-      if (!touches) continue;
       const Vec3 n = cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
                            sub(topo_.points[tri[2]], topo_.points[tri[0]]));
-      for (std::uint32_t v : tri) normal[v - base] = add(normal[v - base], n);
+      for (std::uint32_t v : tri) normal[v] = add(normal[v], n);
     }
+    std::vector<std::uint8_t>& seen = seen_;
 
     // Connected parts of the set.
-    std::vector<std::uint8_t> seen(end - base, 0);
     for (std::uint32_t seed : vertices) {
-      if (seen[seed - base]) continue;
+      if (seen[seed]) continue;
       std::vector<std::uint32_t> part{seed};
-      seen[seed - base] = 1;
+      seen[seed] = 1;
       for (std::size_t i = 0; i < part.size(); ++i) {
         const std::uint32_t v = part[i];
         for (std::uint32_t k = topo_.vertex_edge_begin[v]; k < topo_.vertex_edge_begin[v + 1]; ++k) {
           const auto& e = topo_.edges[topo_.vertex_edges[k]];
           const std::uint32_t w = e[0] == v ? e[1] : e[0];
-          if (member[w - base] && !seen[w - base]) {
-            seen[w - base] = 1;
+          if (member[w] && !seen[w]) {
+            seen[w] = 1;
             part.push_back(w);
           }
         }
@@ -554,7 +688,7 @@ class Solver {
         Vec3 dir = unit(to);
         if (norm(to) == 0.0) dir = scale(face_normal(topo_, face), orientation >= 0 ? 1.0 : -1.0);
         closest[i] = add(to, scale(dir, clearance));
-        const Vec3 nv = unit(normal[part[i] - base]);
+        const Vec3 nv = unit(normal[part[i]]);
         // A part mirrored through a flat partner may land in the plane of its own mesh (a flat
         // strip folded onto itself): the clearance along its own normal keeps the fold open.
         mirror[i] = add(add(scale(to, 2.0), scale(dir, clearance)), scale(nv, clearance));
@@ -578,29 +712,19 @@ class Solver {
           (sign > 0 ? ray_up : ray_down)[i] = add(sub(x, p), scale(d, clearance));
         }
       }
-      const std::vector<Vec3>* best = &closest;
-      double best_score = strain(part, member, base, closest);
-      const double mirror_score = strain(part, member, base, mirror);
-      if (mirror_score < best_score) {
-        best = &mirror;
-        best_score = mirror_score;
-      }
-      if (up_ok) {
-        const double score = strain(part, member, base, ray_up);
-        if (score < best_score) {
-          best = &ray_up;
-          best_score = score;
-        }
-      }
-      if (down_ok) {
-        const double score = strain(part, member, base, ray_down);
-        if (score < best_score) best = &ray_down;
-      }
-      for (std::size_t i = 0; i < n; ++i) {
-        moves.region[part[i]] = add(moves.region[part[i]], (*best)[i]);
-        moves.has_region[part[i]] = 1;
-      }
+      PartMoves p;
+      p.options.push_back(std::move(closest));
+      p.options.push_back(std::move(mirror));
+      if (up_ok) p.options.push_back(std::move(ray_up));
+      if (down_ok) p.options.push_back(std::move(ray_down));
+      for (const std::vector<Vec3>& option : p.options) p.strain.push_back(strain(part, member, 0, option));
+      p.part = std::move(part);
+      out.push_back(std::move(p));
     }
+    for (std::uint32_t v : vertices) member[v] = seen[v] = 0;
+    for (std::uint32_t t : touching)
+      for (std::uint32_t v : topo_.tris[t]) normal[v] = Vec3{0, 0, 0};
+    return out;
   }
 
   // How much a candidate move of `part` strains the mesh: relative length change of every edge
@@ -634,15 +758,16 @@ class Solver {
     return score;
   }
 
-  // Label of welded vertex v with respect to component `partner` (-1 undecided).
   // A BI/BI contour between two components (two sheets overlapping at a corner, a sleeve's cuff
   // through a hem) separates nothing, so no region holds its labels; the paper slides it toward the
   // other mesh's boundary one small step per iteration, which takes about one iteration per
   // crossing and, being a shear of both meshes, is sensitive to rounding. Here the contour's flap
   // moves instead: on each side of the contour, the vertices next to it that lie on one side of the
   // other surface and over it (their closest point on it is not on its boundary), grown from the
-  // crossing edges; of the (up to) four such flaps, the one with the least area moves across the
-  // other surface like a region. What remains near the boundary goes to the per-crossing rule.
+  // crossing edges. Each flap's parts and their candidate moves across the other surface are
+  // measured (TrialMove, exact): the move that removes most crossings is made. When none removes
+  // any, the flap with the least area moves as a region. What remains near the boundary goes to
+  // the per-crossing rule.
   //
   // A contour of one component with itself that separates nothing (a flap of a sheet through its
   // own base across the base's edge, contours through loop vertices) is treated the same way, with
@@ -650,6 +775,10 @@ class Solver {
   // grown by a few rings, never into this side's own crossing corners; its rim counts as boundary.
   // A loop vertex (where the two tracks meet) is a barrier: never in a flap, never crossed by its
   // growth (the flap of a contour that only touches one elsewhere must not take the pinch along).
+  // A contour through a loop vertex moves a flap only when the measurement says it helps, and is
+  // otherwise left to the per-crossing rule: unmeasured flaps next to a pinch resolved the small
+  // figure-eight and loop-to-loop cases but left more crossings on the MakeHuman garments
+  // (casualsuit01 at x1.02: 174 -> 336).
   void flap_move(const CrossingSet& set, const TracedContour& t,
                  std::map<std::uint32_t, std::unique_ptr<MeshTree>>& trees,
                  std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
@@ -659,11 +788,7 @@ class Solver {
                                          track_component(topo_, set, t, 1)};
     const bool self = components[0] == components[1];
     if (self) {
-      // Contours through a loop vertex stay with the per-crossing rule: flaps next to the pinch
-      // (the loop vertex as a barrier) resolve the small figure-eight and loop-to-loop cases, but
-      // on the MakeHuman garments they left more crossings than the rule does (casualsuit04 at
-      // x1.02: 0 -> 1, casualsuit01 at x1.02: 174 -> 336).
-      if (c.tracks[0].separates || c.tracks[1].separates || c.loop_vertices > 0) return;
+      if (c.tracks[0].separates || c.tracks[1].separates) return;  // self_contour_move's case
     } else if (c.tracks[0].type != TrackType::kBI || c.tracks[1].type != TrackType::kBI) {
       return;
     }
@@ -701,7 +826,7 @@ class Solver {
       int track = -1;
       std::vector<std::uint32_t> vertices;
     };
-    Flap best;
+    std::vector<Flap> flaps;
     std::unique_ptr<MeshTree> patches[2];  // per track: the other surface, for a self contour
     for (int k = 0; k < 2; ++k) {
       const std::uint32_t own = components[k], other = components[1 - k];
@@ -712,9 +837,17 @@ class Solver {
       std::vector<std::uint8_t> in_patch;
       const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
       if (self) {
-        std::vector<std::uint8_t> own_corner(topo_.mesh_vertex_begin[mesh + 1] - base, 0);
-        for (std::uint32_t v : seeds) own_corner[v - base] = 1;
-        const std::vector<std::uint32_t> tris = local_sheet(mesh, corners_of(1 - k), own_corner, 3, in_patch);
+        // The patch never reaches this side's corners, nor vertices nearer (in rings) to them than
+        // to the other track's corners: on a sheet folded at a loop vertex the two sides are joined, and
+        // the patch must not grow over the fold into the flap it is to judge.
+        const std::vector<std::uint32_t> others = corners_of(1 - k);
+        const int rings = kPatchRings;
+        const std::vector<int> near_own = ring_distance(mesh, seeds, rings + 1);
+        const std::vector<int> near_other = ring_distance(mesh, others, rings + 1);
+        std::vector<std::uint8_t> own_side(near_own.size(), 0);
+        for (std::size_t i = 0; i < own_side.size(); ++i)
+          own_side[i] = near_own[i] == 0 || (near_own[i] < near_other[i] && near_own[i] <= rings + 1) ? 1 : 0;
+        const std::vector<std::uint32_t> tris = local_sheet(mesh, others, own_side, rings, in_patch);
         std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
         for (std::uint32_t f : tris) {
           const auto& tri = topo_.tris[f];
@@ -748,7 +881,9 @@ class Solver {
             tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
         const auto& f = topo_.tris[face];
         const Vec3 q{hit.first.x(), hit.first.y(), hit.first.z()};
-        int result = orient_sos(topo_.points, f[0], f[1], f[2], v);
+        // A corner of the closest face lies on the other surface (a fold vertex shared by both
+        // sides of a sheet).
+        int result = f[0] == v || f[1] == v || f[2] == v ? 0 : orient_sos(topo_.points, f[0], f[1], f[2], v);
         for (int e = 0; e < 3 && result != 0; ++e) {
           // Closest point on edge (f[e], f[e+1]) of the other surface's boundary: not over it.
           const Vec3& a = topo_.points[f[e]];
@@ -764,9 +899,11 @@ class Solver {
         return result;
       };
       // A flap is small next to its component: one that grows past a quarter of it is a side of
-      // the surface, not a flap.
+      // the surface, not a flap. Next to a loop vertex only measured moves are made, so a flap
+      // too large to be measured is not grown further.
       const std::size_t component_size = component_size_[own];
-      const std::size_t limit = std::max<std::size_t>(16, component_size / 4);
+      std::size_t limit = std::max<std::size_t>(16, component_size / 4);
+      if (c.loop_vertices > 0) limit = std::min(limit, kMeasuredVertices);
       for (int wanted : {1, -1}) {
         std::vector<std::uint32_t> flap;
         std::map<std::uint32_t, bool> seen;
@@ -802,22 +939,41 @@ class Solver {
           area += vertex_edge_[v] * vertex_edge_[v];
         }
         if (!any_free) continue;
-        if (area < best.area) {
-          best.area = area;
-          best.track = k;
-          std::sort(flap.begin(), flap.end());
-          best.vertices = std::move(flap);
-        }
+        std::sort(flap.begin(), flap.end());
+        flaps.push_back({area, k, std::move(flap)});
       }
     }
-    if (best.track < 0) return;
-    const std::uint32_t own = components[best.track], other = components[1 - best.track];
-    const MeshTree& tree = self ? *patches[best.track] : component_tree(other, trees);
-    for (std::uint32_t v : best.vertices) in_moving_set[v] = 1;
-    move_regions(topo_.component_mesh[own], self ? 0 : region_settings_.orientation[other],
-                 best.vertices, tree, moves);
+    if (flaps.empty()) return;
+    auto tree_of = [&](int k) -> const MeshTree& {
+      return self ? *patches[k] : component_tree(components[1 - k], trees);
+    };
+    auto orientation_of = [&](int k) { return self ? 0 : region_settings_.orientation[components[1 - k]]; };
+
+    std::vector<Candidate> candidates;
+    for (Flap& flap : flaps)
+      candidates.push_back({topo_.component_mesh[components[flap.track]], orientation_of(flap.track),
+                            std::move(flap.vertices), &tree_of(flap.track)});
+    const Choice chosen = measured_choice(set, candidates);
+    // A move that adds crossings is never made; one that changes nothing only on a contour
+    // without a loop vertex (it slides toward the boundary). Otherwise the per-crossing rule acts.
+    if (!chosen.part.empty()) {
+      if (chosen.gain < 0 || (chosen.gain == 0 && c.loop_vertices > 0)) return;
+      for (std::uint32_t v : chosen.part) in_moving_set[v] = 1;
+      add_region_move(chosen.part, chosen.delta, moves);
+      return;
+    }
+    // Nothing measured (the step's budget is spent): the smallest flap moves, except next to a
+    // loop vertex.
+    if (c.loop_vertices > 0) return;
+    const Candidate& smallest = candidates[static_cast<std::size_t>(
+        std::min_element(flaps.begin(), flaps.end(),
+                         [](const Flap& a, const Flap& b) { return a.area < b.area; }) -
+        flaps.begin())];
+    for (std::uint32_t v : smallest.vertices) in_moving_set[v] = 1;
+    move_regions(smallest.mesh, smallest.orientation, smallest.vertices, *smallest.tree, moves);
   }
 
+  // Label of welded vertex v with respect to component `partner` (-1 undecided).
   int label(const RegionAnalysis& analysis, std::uint32_t v, std::uint32_t partner) const {
     const std::uint32_t component = topo_.vertex_component[v];
     auto it = analysis.labels.find({component, partner});
@@ -1059,6 +1215,11 @@ class Solver {
   std::vector<Vec3> best_points_;
   std::vector<std::size_t> component_size_;  // welded vertices per component
   std::unique_ptr<TriangleBvh> obstacle_bvh_;
+  const SceneHierarchy* hierarchy_ = nullptr;  // at the current positions, during a step
+  std::unique_ptr<TrialMove> trial_;
+  std::size_t trial_budget_ = 0;  // triangles measured moves may still touch in this step
+  std::vector<std::uint8_t> member_, seen_;  // part_moves' scratch, per welded vertex, all zero
+  std::vector<Vec3> normal_;                 // between calls
   std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
 };
 

@@ -1,0 +1,148 @@
+#include "resolve/trial_move.h"
+
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "detect/triangle_bvh.h"
+
+namespace untangle {
+namespace {
+
+Box3 box_at(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& tri) {
+  Box3 b;
+  b.lo = points[tri[0]];
+  b.hi = points[tri[0]];
+  for (int k = 1; k < 3; ++k)
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = std::min(b.lo[a], points[tri[k]][a]);
+      b.hi[a] = std::max(b.hi[a], points[tri[k]][a]);
+    }
+  return b;
+}
+
+bool has(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
+  return tri[0] == v || tri[1] == v || tri[2] == v;
+}
+
+}  // namespace
+
+TrialMove::TrialMove(const SceneTopology& topology)
+    : topology_(topology), points_(topology.points), affected_(topology.tris.size(), 0),
+      faces_(topology.tris.size(), 0) {}
+
+void TrialMove::sync(const CrossingSet& set) {
+  points_ = topology_.points;
+  std::fill(faces_.begin(), faces_.end(), 0);
+  for (const RawCrossing& x : set.items) ++faces_[x.face];
+}
+
+TrialCount TrialMove::count(const DetectSettings& settings, const SceneHierarchy& hierarchy,
+                            const CrossingSet& set, const std::vector<std::uint32_t>& vertices,
+                            const std::vector<Vec3>& at, bool stop_above_before) {
+  const SceneTopology& topo = topology_;
+  std::vector<std::uint32_t> touched;
+  for (std::uint32_t v : vertices)
+    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+      const std::uint32_t e = topo.vertex_edges[i];
+      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
+        const std::uint32_t t = topo.edge_faces[k];
+        if (!affected_[t]) {
+          affected_[t] = 1;
+          touched.push_back(t);
+        }
+      }
+    }
+  std::sort(touched.begin(), touched.end());
+
+  TrialCount result;
+  // Crossings now: through a touched face, or along an edge of a touched triangle through an
+  // untouched face (the set is sorted by edge: each edge's crossings are one range).
+  std::vector<std::uint32_t> edges;
+  for (std::uint32_t t : touched) {
+    result.before += faces_[t];
+    for (std::uint32_t e : topo.tri_edges[t]) edges.push_back(e);
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  for (std::uint32_t e : edges) {
+    auto it = std::lower_bound(set.items.begin(), set.items.end(), e,
+                               [](const RawCrossing& x, std::uint32_t edge) { return x.edge < edge; });
+    for (; it != set.items.end() && it->edge == e; ++it)
+      if (!affected_[it->face]) ++result.before;
+  }
+
+  for (std::size_t i = 0; i < vertices.size(); ++i) points_[vertices[i]] = at[i];
+  std::vector<Box3> boxes(touched.size());
+  for (std::size_t i = 0; i < touched.size(); ++i) boxes[i] = box_at(points_, topo.tris[touched[i]]);
+
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> found;  // (edge, face)
+  // A crossing is found once from each triangle at its edge: the finds are made unique now and
+  // then, and counting stops once more than `before` distinct ones are in.
+  std::size_t next_check = 2 * result.before + 8;
+  bool gave_up = false;
+  auto check = [&] {
+    if (!stop_above_before || found.size() <= next_check) return;
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
+    gave_up = found.size() > result.before;
+    next_check = 2 * found.size() + 8;
+  };
+  auto test_edges = [&](std::uint32_t t, std::uint32_t f) {
+    const auto& tri = topo.tris[t];
+    const auto& face = topo.tris[f];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t p = tri[k], q = tri[(k + 1) % 3];
+      if (has(face, p) || has(face, q)) continue;
+      if (edge_crosses_triangle(points_, p, q, face[0], face[1], face[2]))
+        found.push_back({topo.tri_edges[t][k], f});
+    }
+  };
+  auto test_pair = [&](std::uint32_t t, std::uint32_t u) {
+    int shared = 0;
+    for (std::uint32_t v : topo.tris[t]) shared += has(topo.tris[u], v) ? 1 : 0;
+    if (gave_up || shared >= 2 || triangles_surely_apart(points_, topo.tris[t], topo.tris[u])) return;
+    test_edges(t, u);
+    test_edges(u, t);
+    check();
+  };
+  const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
+  auto skipped = [&](std::size_t m) { return m < settings.skip_among.size() && settings.skip_among[m]; };
+  // Pairs of moved triangles: a sweep over their boxes along x.
+  std::vector<std::uint32_t> by_x(touched.size());
+  for (std::uint32_t i = 0; i < by_x.size(); ++i) by_x[i] = i;
+  std::sort(by_x.begin(), by_x.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return boxes[a].lo[0] != boxes[b].lo[0] ? boxes[a].lo[0] < boxes[b].lo[0] : a < b;
+  });
+  for (std::size_t i = 0; i < by_x.size(); ++i) {
+    const Box3& box = boxes[by_x[i]];
+    for (std::size_t j = i + 1; j < by_x.size() && boxes[by_x[j]].lo[0] <= box.hi[0]; ++j) {
+      const std::uint32_t t = touched[by_x[i]], u = touched[by_x[j]];
+      if (topo.tri_mesh[u] == topo.tri_mesh[t] && !settings.self_pairs) continue;
+      if (box.overlaps(boxes[by_x[j]])) test_pair(t, u);
+    }
+  }
+  std::vector<std::uint32_t> near;
+  for (std::size_t i = 0; i < touched.size(); ++i) {
+    const std::uint32_t t = touched[i];
+    const std::uint32_t tm = topo.tri_mesh[t];
+    near.clear();
+    for (std::size_t m = 0; m < meshes; ++m) {
+      if (m == tm && !settings.self_pairs) continue;
+      if (skipped(m) && skipped(tm)) continue;
+      if (const TriangleBvh* tree = hierarchy.mesh(m)) tree->query(boxes[i], near);
+    }
+    if (!skipped(tm) && settings.skipped_bvh != nullptr) settings.skipped_bvh->query(boxes[i], near);
+    for (std::uint32_t u : near)
+      if (!affected_[u]) test_pair(t, u);  // a moved triangle's box in the hierarchy is stale
+  }
+  std::sort(found.begin(), found.end());
+  result.triangles = touched.size();
+  result.after = static_cast<std::size_t>(std::unique(found.begin(), found.end()) - found.begin());
+
+  for (std::uint32_t v : vertices) points_[v] = topo.points[v];
+  for (std::uint32_t t : touched) affected_[t] = 0;
+  return result;
+}
+
+}  // namespace untangle
