@@ -99,6 +99,7 @@ struct Moves {
 // Rings of neighbours around the other track's crossings that stand for "the other surface" of
 // a self contour.
 constexpr int kPatchRings = 3;
+constexpr int kWidePatchRings = 12;
 // The largest set of vertices whose moves are measured before they are made (TrialMove).
 constexpr std::size_t kMeasuredVertices = 400;
 
@@ -508,7 +509,9 @@ class Solver {
       for (std::uint32_t v : side[k]) area[k] += vertex_edge_[v] * vertex_edge_[v];
     }
     // Each side's move across the other sheet (the other track's faces at the crossings, grown by
-    // two rings), measured; the best that removes crossings is made, else the smaller side moves.
+    // two rings), measured; the best that removes crossings is made. When neither helps, the
+    // per-crossing rule acts; when nothing could be measured (the step's budget is spent), the
+    // smaller side moves.
     std::unique_ptr<MeshTree> trees[2];
     std::vector<Candidate> candidates;
     for (int k = 0; k < 2; ++k) {
@@ -539,6 +542,7 @@ class Solver {
       add_region_move(chosen.part, chosen.delta, moves);
       return;
     }
+    if (!chosen.part.empty()) return;  // measured, and no side helps: the per-crossing rule acts
     const int k = !side[0].empty() && (side[1].empty() || area[0] <= area[1]) ? 0 : 1;
     const Candidate* smaller = nullptr;
     for (const Candidate& candidate : candidates)
@@ -824,10 +828,16 @@ class Solver {
     struct Flap {
       double area = INFINITY;
       int track = -1;
+      bool wide = false;
       std::vector<std::uint32_t> vertices;
+      const MeshTree* tree = nullptr;  // the other surface
     };
     std::vector<Flap> flaps;
-    std::unique_ptr<MeshTree> patches[2];  // per track: the other surface, for a self contour
+    // For a self contour, per patch size and track: the other surface. A flap of a finely
+    // subdivided sheet reaches beyond a narrow patch; a wide patch can take in another fold of
+    // the same sheet. Both are measured.
+    std::unique_ptr<MeshTree> patches[2][2];
+    for (int wide = 0; wide < (self ? 2 : 1); ++wide)
     for (int k = 0; k < 2; ++k) {
       const std::uint32_t own = components[k], other = components[1 - k];
       const std::uint32_t mesh = topo_.component_mesh[own];
@@ -841,7 +851,7 @@ class Solver {
         // to the other track's corners: on a sheet folded at a loop vertex the two sides are joined, and
         // the patch must not grow over the fold into the flap it is to judge.
         const std::vector<std::uint32_t> others = corners_of(1 - k);
-        const int rings = kPatchRings;
+        const int rings = wide ? kWidePatchRings : kPatchRings;
         const std::vector<int> near_own = ring_distance(mesh, seeds, rings + 1);
         const std::vector<int> near_other = ring_distance(mesh, others, rings + 1);
         std::vector<std::uint8_t> own_side(near_own.size(), 0);
@@ -857,9 +867,9 @@ class Solver {
         if (tris.empty()) continue;
         for (const auto& [edge, count] : uses)
           if (count == 1) rim.insert(edge);
-        patches[k] = build_tree(topo_, tris);
+        patches[wide][k] = build_tree(topo_, tris);
       }
-      const MeshTree& tree = self ? *patches[k] : component_tree(other, trees);
+      const MeshTree& tree = self ? *patches[wide][k] : component_tree(other, trees);
       if (tree.triangles.empty()) continue;
       auto beyond_edge = [&](std::uint32_t a, std::uint32_t b) {
         if (self) return rim.count({std::min(a, b), std::max(a, b)}) > 0;
@@ -940,20 +950,22 @@ class Solver {
         }
         if (!any_free) continue;
         std::sort(flap.begin(), flap.end());
-        flaps.push_back({area, k, std::move(flap)});
+        flaps.push_back({area, k, wide == 1, std::move(flap), &tree});
       }
     }
     if (flaps.empty()) return;
-    auto tree_of = [&](int k) -> const MeshTree& {
-      return self ? *patches[k] : component_tree(components[1 - k], trees);
-    };
-    auto orientation_of = [&](int k) { return self ? 0 : region_settings_.orientation[components[1 - k]]; };
-
-    std::vector<Candidate> candidates;
+    std::vector<Candidate> candidates, wide_candidates;
     for (Flap& flap : flaps)
-      candidates.push_back({topo_.component_mesh[components[flap.track]], orientation_of(flap.track),
-                            std::move(flap.vertices), &tree_of(flap.track)});
-    const Choice chosen = measured_choice(set, candidates);
+      (flap.wide ? wide_candidates : candidates)
+          .push_back({topo_.component_mesh[components[flap.track]],
+                      self ? 0 : region_settings_.orientation[components[1 - flap.track]],
+                      std::move(flap.vertices), flap.tree});
+    // The wide patch's flaps only when no flap of the narrow one helps.
+    Choice chosen = measured_choice(set, candidates);
+    if (chosen.gain <= 0 && !wide_candidates.empty()) {
+      Choice wide = measured_choice(set, wide_candidates);
+      if (!wide.part.empty() && wide.gain > 0) chosen = std::move(wide);
+    }
     // A move that adds crossings is never made; one that changes nothing only on a contour
     // without a loop vertex (it slides toward the boundary). Otherwise the per-crossing rule acts.
     if (!chosen.part.empty()) {
@@ -962,13 +974,15 @@ class Solver {
       add_region_move(chosen.part, chosen.delta, moves);
       return;
     }
-    // Nothing measured (the step's budget is spent): the smallest flap moves, except next to a
-    // loop vertex.
+    // Nothing measured (the step's budget is spent): the smallest flap by the narrow patch moves,
+    // except next to a loop vertex.
     if (c.loop_vertices > 0) return;
-    const Candidate& smallest = candidates[static_cast<std::size_t>(
-        std::min_element(flaps.begin(), flaps.end(),
-                         [](const Flap& a, const Flap& b) { return a.area < b.area; }) -
-        flaps.begin())];
+    // (The narrow patch's flaps come first in `flaps`, in the order of `candidates`.)
+    if (candidates.empty()) return;
+    std::size_t smallest_index = 0;
+    for (std::size_t i = 1; i < candidates.size(); ++i)
+      if (flaps[i].area < flaps[smallest_index].area) smallest_index = i;
+    const Candidate& smallest = candidates[smallest_index];
     for (std::uint32_t v : smallest.vertices) in_moving_set[v] = 1;
     move_regions(smallest.mesh, smallest.orientation, smallest.vertices, *smallest.tree, moves);
   }
