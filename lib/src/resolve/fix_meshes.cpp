@@ -99,9 +99,8 @@ struct Moves {
 // Rings of neighbours around the other track's crossings that stand for "the other surface" of
 // a self contour.
 constexpr int kPatchRings = 3;
-constexpr int kWidePatchRings = 12;
 // The largest set of vertices whose moves are measured before they are made (TrialMove).
-constexpr std::size_t kMeasuredVertices = 400;
+constexpr std::size_t kMeasuredVertices = 2500;
 
 class Solver {
  public:
@@ -149,6 +148,7 @@ class Solver {
     for (std::uint32_t v = 0; v < nv; ++v) ++component_size_[topo_.vertex_component[v]];
     start_points_ = topo_.points;
     member_.assign(nv, 0);
+    measured_.assign(nv, 0);
     seen_.assign(nv, 0);
     normal_.assign(nv, Vec3{0, 0, 0});
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, settings_.skip_among);
@@ -214,7 +214,10 @@ class Solver {
       hierarchy_ = hierarchy.get();
       if (!trial_) trial_ = std::make_unique<TrialMove>(topo_);
       trial_->sync(set);
-      trial_budget_ = topo_.tris.size() / 4 + 5000;
+      wide_tried_ = false;
+      for (std::uint32_t v : measured_list_) measured_[v] = 0;
+      measured_list_.clear();
+      trial_budget_ = 2 * topo_.tris.size() + 20000;
       const bool moved = step(set, traced, result);
       result.resolve_ms += ms(t2, Clock::now());
       result.displace_ms = result.resolve_ms - result.regions_ms;
@@ -538,8 +541,7 @@ class Solver {
     if (candidates.empty()) return;
     const Choice chosen = measured_choice(set, candidates);
     if (chosen.gain > 0) {
-      for (std::uint32_t v : chosen.part) in_moving_set[v] = 1;
-      add_region_move(chosen.part, chosen.delta, moves);
+      make_measured_move(chosen, in_moving_set, moves);
       return;
     }
     if (!chosen.part.empty()) return;  // measured, and no side helps: the per-crossing rule acts
@@ -564,21 +566,34 @@ class Solver {
     double strain = INFINITY;
     std::vector<std::uint32_t> part;
     std::vector<Vec3> delta;
+    std::vector<Vec3> at;  // the part's positions after the move
   };
+
+  // Makes a measured move and lets later measurements in this step see it.
+  void make_measured_move(const Choice& chosen, std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
+    for (std::uint32_t v : chosen.part) in_moving_set[v] = measured_[v] = 1;
+    measured_list_.insert(measured_list_.end(), chosen.part.begin(), chosen.part.end());
+    add_region_move(chosen.part, chosen.delta, moves);
+    trial_->commit(chosen.part, chosen.at);
+  }
 
   // Every connected part of every candidate with every move of part_moves, counted exactly
   // (TrialMove): the one that removes most crossings, the least strain breaking ties.
   Choice measured_choice(const CrossingSet& set, const std::vector<Candidate>& candidates) {
     Choice chosen;
     for (const Candidate& candidate : candidates) {
-      // Measuring a move costs about what re-detecting the triangles it touches does (some six per
-      // vertex). A step measures at most about one detection's worth, in contour order, and sets
-      // larger than kMeasuredVertices (a side of a sheet rather than a flap) go unmeasured.
-      const std::size_t cost = 6 * 4 * candidate.vertices.size();
-      if (candidate.vertices.size() > kMeasuredVertices || cost > trial_budget_) continue;
-      trial_budget_ -= cost;
+      // Measuring a move costs about what re-detecting the triangles it touches does, the budget's
+      // unit (some two per vertex, three with the ring around). A step measures at most a few
+      // detections' worth, in contour order; sets larger than kMeasuredVertices (a side of a
+      // sheet rather than a flap) go unmeasured.
+      if (candidate.vertices.size() > kMeasuredVertices || 3 * candidate.vertices.size() > trial_budget_) continue;
       for (PartMoves& p : part_moves(candidate.mesh, candidate.orientation, candidate.vertices, *candidate.tree)) {
+        // A vertex moves once per step: parts with a vertex a measured move already took wait.
+        if (std::any_of(p.part.begin(), p.part.end(), [&](std::uint32_t v) { return measured_[v] != 0; }))
+          continue;
         for (std::size_t o = 0; o < p.options.size(); ++o) {
+          if (3 * p.part.size() > trial_budget_) break;
+          trial_budget_ -= 3 * p.part.size();
           std::vector<Vec3> at(p.part.size());
           for (std::size_t i = 0; i < p.part.size(); ++i) {
             at[i] = add(topo_.points[p.part[i]], p.options[o][i]);
@@ -591,6 +606,7 @@ class Solver {
             chosen.strain = p.strain[o];
             chosen.part = p.part;
             chosen.delta = p.options[o];
+            chosen.at = at;
           }
         }
       }
@@ -834,10 +850,10 @@ class Solver {
     };
     std::vector<Flap> flaps;
     // For a self contour, per patch size and track: the other surface. A flap of a finely
-    // subdivided sheet reaches beyond a narrow patch; a wide patch can take in another fold of
-    // the same sheet. Both are measured.
+    // subdivided sheet reaches beyond the narrow patch; the wide one can take in another fold of
+    // the same sheet, so it is only tried when the narrow one offers nothing that helps.
     std::unique_ptr<MeshTree> patches[2][2];
-    for (int wide = 0; wide < (self ? 2 : 1); ++wide)
+    auto collect = [&](int wide) {
     for (int k = 0; k < 2; ++k) {
       const std::uint32_t own = components[k], other = components[1 - k];
       const std::uint32_t mesh = topo_.component_mesh[own];
@@ -851,7 +867,8 @@ class Solver {
         // to the other track's corners: on a sheet folded at a loop vertex the two sides are joined, and
         // the patch must not grow over the fold into the flap it is to judge.
         const std::vector<std::uint32_t> others = corners_of(1 - k);
-        const int rings = wide ? kWidePatchRings : kPatchRings;
+        // The wide patch: every vertex nearer to the other track's corners than to this side's.
+        const int rings = wide ? static_cast<int>(component_size_[own]) : kPatchRings;
         const std::vector<int> near_own = ring_distance(mesh, seeds, rings + 1);
         const std::vector<int> near_other = ring_distance(mesh, others, rings + 1);
         std::vector<std::uint8_t> own_side(near_own.size(), 0);
@@ -953,25 +970,34 @@ class Solver {
         flaps.push_back({area, k, wide == 1, std::move(flap), &tree});
       }
     }
-    if (flaps.empty()) return;
-    std::vector<Candidate> candidates, wide_candidates;
-    for (Flap& flap : flaps)
-      (flap.wide ? wide_candidates : candidates)
-          .push_back({topo_.component_mesh[components[flap.track]],
-                      self ? 0 : region_settings_.orientation[components[1 - flap.track]],
-                      std::move(flap.vertices), flap.tree});
-    // The wide patch's flaps only when no flap of the narrow one helps.
+    };
+    auto candidates_of = [&](bool wide) {
+      std::vector<Candidate> out;
+      for (Flap& flap : flaps)
+        if (flap.wide == wide)
+          out.push_back({topo_.component_mesh[components[flap.track]],
+                         self ? 0 : region_settings_.orientation[components[1 - flap.track]],
+                         flap.vertices, flap.tree});
+      return out;
+    };
+    collect(0);
+    const std::vector<Candidate> candidates = candidates_of(false);
     Choice chosen = measured_choice(set, candidates);
-    if (chosen.gain <= 0 && !wide_candidates.empty()) {
-      Choice wide = measured_choice(set, wide_candidates);
+    // A self contour whose narrow patch offers no helpful flap (a flap of a finely subdivided
+    // sheet reaches beyond it) tries the wide patch, within the step's budget.
+    // Building a wide patch walks and indexes about half the component: one per step.
+    if (self && chosen.gain <= 0 && !wide_tried_) {
+      wide_tried_ = true;
+      collect(1);
+      Choice wide = measured_choice(set, candidates_of(true));
       if (!wide.part.empty() && wide.gain > 0) chosen = std::move(wide);
     }
+    if (candidates.empty() && chosen.part.empty()) return;
     // A move that adds crossings is never made; one that changes nothing only on a contour
     // without a loop vertex (it slides toward the boundary). Otherwise the per-crossing rule acts.
     if (!chosen.part.empty()) {
       if (chosen.gain < 0 || (chosen.gain == 0 && c.loop_vertices > 0)) return;
-      for (std::uint32_t v : chosen.part) in_moving_set[v] = 1;
-      add_region_move(chosen.part, chosen.delta, moves);
+      make_measured_move(chosen, in_moving_set, moves);
       return;
     }
     // Nothing measured (the step's budget is spent): the smallest flap by the narrow patch moves,
@@ -1232,7 +1258,10 @@ class Solver {
   const SceneHierarchy* hierarchy_ = nullptr;  // at the current positions, during a step
   std::unique_ptr<TrialMove> trial_;
   std::size_t trial_budget_ = 0;  // triangles measured moves may still touch in this step
+  bool wide_tried_ = false;       // a wide patch was built in this step
   std::vector<std::uint8_t> member_, seen_;  // part_moves' scratch, per welded vertex, all zero
+  std::vector<std::uint8_t> measured_;       // per welded vertex: taken by a measured move this step
+  std::vector<std::uint32_t> measured_list_;
   std::vector<Vec3> normal_;                 // between calls
   std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
 };

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <utility>
 
 #include "detect/triangle_bvh.h"
@@ -28,64 +29,98 @@ bool has(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
 }  // namespace
 
 TrialMove::TrialMove(const SceneTopology& topology)
-    : topology_(topology), points_(topology.points), affected_(topology.tris.size(), 0),
+    : topology_(topology),
+      points_(topology.points),
+      affected_(topology.tris.size(), 0),
+      committed_(topology.tris.size(), 0),
       faces_(topology.tris.size(), 0) {}
 
 void TrialMove::sync(const CrossingSet& set) {
   points_ = topology_.points;
+  for (std::uint32_t t : committed_list_) committed_[t] = 0;
+  committed_list_.clear();
   std::fill(faces_.begin(), faces_.end(), 0);
   for (const RawCrossing& x : set.items) ++faces_[x.face];
+}
+
+std::vector<std::uint32_t> TrialMove::triangles_at(const std::vector<std::uint32_t>& vertices) {
+  const SceneTopology& topo = topology_;
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t v : vertices)
+    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+      const std::uint32_t e = topo.vertex_edges[i];
+      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k)
+        out.push_back(topo.edge_faces[k]);
+    }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+void TrialMove::commit(const std::vector<std::uint32_t>& vertices, const std::vector<Vec3>& at) {
+  for (std::size_t i = 0; i < vertices.size(); ++i) points_[vertices[i]] = at[i];
+  for (std::uint32_t t : triangles_at(vertices))
+    if (!committed_[t]) {
+      committed_[t] = 1;
+      committed_list_.push_back(t);
+    }
 }
 
 TrialCount TrialMove::count(const DetectSettings& settings, const SceneHierarchy& hierarchy,
                             const CrossingSet& set, const std::vector<std::uint32_t>& vertices,
                             const std::vector<Vec3>& at, bool stop_above_before) {
   const SceneTopology& topo = topology_;
-  std::vector<std::uint32_t> touched;
-  for (std::uint32_t v : vertices)
-    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-      const std::uint32_t e = topo.vertex_edges[i];
-      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
-        const std::uint32_t t = topo.edge_faces[k];
-        if (!affected_[t]) {
-          affected_[t] = 1;
-          touched.push_back(t);
-        }
-      }
-    }
-  std::sort(touched.begin(), touched.end());
+  const std::vector<std::uint32_t> touched = triangles_at(vertices);
+  for (std::uint32_t t : touched) affected_[t] = 1;
 
   TrialCount result;
-  // Crossings now: through a touched face, or along an edge of a touched triangle through an
-  // untouched face (the set is sorted by edge: each edge's crossings are one range).
-  std::vector<std::uint32_t> edges;
-  for (std::uint32_t t : touched) {
-    result.before += faces_[t];
-    for (std::uint32_t e : topo.tri_edges[t]) edges.push_back(e);
-  }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  for (std::uint32_t e : edges) {
-    auto it = std::lower_bound(set.items.begin(), set.items.end(), e,
-                               [](const RawCrossing& x, std::uint32_t edge) { return x.edge < edge; });
-    for (; it != set.items.end() && it->edge == e; ++it)
-      if (!affected_[it->face]) ++result.before;
+  result.triangles = touched.size();
+  if (committed_list_.empty()) {
+    // Nothing committed yet: the crossings now are the set's. Through a touched face, or along an
+    // edge of a touched triangle through an untouched face (the set is sorted by edge: each
+    // edge's crossings are one range).
+    std::vector<std::uint32_t> edges;
+    for (std::uint32_t t : touched) {
+      result.before += faces_[t];
+      for (std::uint32_t e : topo.tri_edges[t]) edges.push_back(e);
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (std::uint32_t e : edges) {
+      auto it = std::lower_bound(set.items.begin(), set.items.end(), e,
+                                 [](const RawCrossing& x, std::uint32_t edge) { return x.edge < edge; });
+      for (; it != set.items.end() && it->edge == e; ++it)
+        if (!affected_[it->face]) ++result.before;
+    }
+  } else {
+    result.before = crossings_of(settings, hierarchy, touched, std::numeric_limits<std::size_t>::max());
   }
 
-  for (std::size_t i = 0; i < vertices.size(); ++i) points_[vertices[i]] = at[i];
-  std::vector<Box3> boxes(touched.size());
-  for (std::size_t i = 0; i < touched.size(); ++i) boxes[i] = box_at(points_, topo.tris[touched[i]]);
+  std::vector<Vec3> was(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    was[i] = points_[vertices[i]];
+    points_[vertices[i]] = at[i];
+  }
+  result.after = crossings_of(settings, hierarchy, touched,
+                              stop_above_before ? result.before : std::numeric_limits<std::size_t>::max());
+  for (std::size_t i = 0; i < vertices.size(); ++i) points_[vertices[i]] = was[i];
+  for (std::uint32_t t : touched) affected_[t] = 0;
+  return result;
+}
 
+std::size_t TrialMove::crossings_of(const DetectSettings& settings, const SceneHierarchy& hierarchy,
+                                    const std::vector<std::uint32_t>& touched, std::size_t limit) {
+  const SceneTopology& topo = topology_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> found;  // (edge, face)
   // A crossing is found once from each triangle at its edge: the finds are made unique now and
-  // then, and counting stops once more than `before` distinct ones are in.
-  std::size_t next_check = 2 * result.before + 8;
+  // then, and counting stops once more than `limit` distinct ones are in.
+  std::size_t next_check = limit == std::numeric_limits<std::size_t>::max() ? limit : 2 * limit + 8;
   bool gave_up = false;
   auto check = [&] {
-    if (!stop_above_before || found.size() <= next_check) return;
+    if (found.size() <= next_check) return;
     std::sort(found.begin(), found.end());
     found.erase(std::unique(found.begin(), found.end()), found.end());
-    gave_up = found.size() > result.before;
+    gave_up = found.size() > limit;
     next_check = 2 * found.size() + 8;
   };
   auto test_edges = [&](std::uint32_t t, std::uint32_t f) {
@@ -108,22 +143,35 @@ TrialCount TrialMove::count(const DetectSettings& settings, const SceneHierarchy
   };
   const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
   auto skipped = [&](std::size_t m) { return m < settings.skip_among.size() && settings.skip_among[m]; };
-  // Pairs of moved triangles: a sweep over their boxes along x.
-  std::vector<std::uint32_t> by_x(touched.size());
+  auto paired = [&](std::uint32_t t, std::uint32_t u) {
+    const std::size_t tm = topo.tri_mesh[t], um = topo.tri_mesh[u];
+    if (tm == um && !settings.self_pairs) return false;
+    return !(skipped(tm) && skipped(um));
+  };
+
+  // Triangles whose boxes in the hierarchy are stale (the touched ones, the committed ones), at
+  // their current boxes: a sweep along x, pairs with a touched triangle in them.
+  std::vector<std::uint32_t> current = touched;
+  for (std::uint32_t t : committed_list_)
+    if (!affected_[t]) current.push_back(t);
+  std::vector<Box3> boxes(current.size());
+  for (std::size_t i = 0; i < current.size(); ++i) boxes[i] = box_at(points_, topo.tris[current[i]]);
+  std::vector<std::uint32_t> by_x(current.size());
   for (std::uint32_t i = 0; i < by_x.size(); ++i) by_x[i] = i;
   std::sort(by_x.begin(), by_x.end(), [&](std::uint32_t a, std::uint32_t b) {
     return boxes[a].lo[0] != boxes[b].lo[0] ? boxes[a].lo[0] < boxes[b].lo[0] : a < b;
   });
-  for (std::size_t i = 0; i < by_x.size(); ++i) {
+  for (std::size_t i = 0; i < by_x.size() && !gave_up; ++i) {
     const Box3& box = boxes[by_x[i]];
     for (std::size_t j = i + 1; j < by_x.size() && boxes[by_x[j]].lo[0] <= box.hi[0]; ++j) {
-      const std::uint32_t t = touched[by_x[i]], u = touched[by_x[j]];
-      if (topo.tri_mesh[u] == topo.tri_mesh[t] && !settings.self_pairs) continue;
-      if (box.overlaps(boxes[by_x[j]])) test_pair(t, u);
+      const std::uint32_t t = current[by_x[i]], u = current[by_x[j]];
+      if (!affected_[t] && !affected_[u]) continue;
+      if (paired(t, u) && box.overlaps(boxes[by_x[j]])) test_pair(t, u);
     }
   }
+  // The rest through the hierarchy.
   std::vector<std::uint32_t> near;
-  for (std::size_t i = 0; i < touched.size(); ++i) {
+  for (std::size_t i = 0; i < touched.size() && !gave_up; ++i) {
     const std::uint32_t t = touched[i];
     const std::uint32_t tm = topo.tri_mesh[t];
     near.clear();
@@ -134,15 +182,10 @@ TrialCount TrialMove::count(const DetectSettings& settings, const SceneHierarchy
     }
     if (!skipped(tm) && settings.skipped_bvh != nullptr) settings.skipped_bvh->query(boxes[i], near);
     for (std::uint32_t u : near)
-      if (!affected_[u]) test_pair(t, u);  // a moved triangle's box in the hierarchy is stale
+      if (!affected_[u] && !committed_[u]) test_pair(t, u);
   }
   std::sort(found.begin(), found.end());
-  result.triangles = touched.size();
-  result.after = static_cast<std::size_t>(std::unique(found.begin(), found.end()) - found.begin());
-
-  for (std::uint32_t v : vertices) points_[v] = topo.points[v];
-  for (std::uint32_t t : touched) affected_[t] = 0;
-  return result;
+  return static_cast<std::size_t>(std::unique(found.begin(), found.end()) - found.begin());
 }
 
 }  // namespace untangle
