@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <memory>
 
+#include "detect/cull_triangles.h"
 #include "detect/orientation.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -232,14 +233,18 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
   const bool skipping = !settings.skip_among.empty();
   auto skipped = [&](std::size_t m) { return skipping && settings.skip_among[m]; };
   std::vector<std::unique_ptr<TriangleBvh>> per_mesh(meshes);
+  // A mesh whose own pairs are not tested needs only the triangles that can meet another mesh:
+  // culled first by a linear pass (cull_triangles), so that its hierarchy is built over those.
+  std::vector<bool> cull(meshes);
+  for (std::size_t m = 0; m < meshes; ++m)
+    cull[m] = (!settings.self_pairs || skipped(m)) && !(skipped(m) && settings.skipped_bvh != nullptr);
+  const std::vector<std::vector<std::uint32_t>> kept = cull_triangles(topo, cull);
   // One hierarchy per mesh, built in parallel (each into its own slot: the same trees for every
   // thread count).
   run_parallel(settings.threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t m = begin; m < end; ++m) {
       if (skipped(m) && settings.skipped_bvh != nullptr) continue;
-      std::vector<bool> only(meshes, false);
-      only[m] = true;
-      per_mesh[m] = std::make_unique<TriangleBvh>(topo, only);
+      per_mesh[m] = std::make_unique<TriangleBvh>(topo, kept[m]);
     }
   });
   std::vector<std::array<std::uint32_t, 2>> pairs;
