@@ -95,10 +95,12 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
   const std::vector<Vec3>& P = topo.points;
   auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const std::array<std::uint32_t, 3>& other,
                       bool& coplanar) {
+    const PlaneFilter filter(P[plane[0]], P[plane[1]], P[plane[2]]);
     int pos = 0, neg = 0, zero = 0;
     for (std::uint32_t v : other) {
       if (contains(plane, v)) continue;
-      const int o = orient_exact(P, plane[0], plane[1], plane[2], v);
+      int o = filter.side(P[v]);
+      if (o == 0) o = orient_exact(P, plane[0], plane[1], plane[2], v);
       pos += o > 0;
       neg += o < 0;
       zero += o == 0;
