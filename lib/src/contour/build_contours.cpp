@@ -35,8 +35,52 @@ double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
+// The crossings of a set by edge: an open-addressing table from an edge to its first crossing
+// (the set is sorted by edge, then face). Lookups are the inner loop of linking; a binary search
+// over the whole set costs several times more.
+class CrossingIndex {
+ public:
+  explicit CrossingIndex(const CrossingSet& set) : set_(set) {
+    std::size_t size = 16;
+    shift_ = 60;
+    while (size < 2 * set.items.size()) {
+      size *= 2;
+      --shift_;
+    }
+    mask_ = size - 1;
+    slots_.assign(size, {kNone, kNone});
+    for (std::uint32_t i = 0; i < set.items.size(); ++i) {
+      const std::uint32_t e = set.items[i].edge;
+      if (i > 0 && set.items[i - 1].edge == e) continue;
+      std::size_t h = slot(e);
+      while (slots_[h][0] != kNone) h = (h + 1) & mask_;
+      slots_[h] = {e, i};
+    }
+  }
+  // Index of the crossing (edge, face), or kNone (as CrossingSet::find).
+  std::uint32_t find(std::uint32_t edge, std::uint32_t face) const {
+    for (std::size_t h = slot(edge); slots_[h][0] != kNone; h = (h + 1) & mask_) {
+      if (slots_[h][0] != edge) continue;
+      for (std::uint32_t i = slots_[h][1]; i < set_.items.size() && set_.items[i].edge == edge; ++i)
+        if (set_.items[i].face == face) return i;
+      return kNone;
+    }
+    return kNone;
+  }
+
+ private:
+  std::size_t slot(std::uint32_t edge) const {  // Fibonacci hashing: the top bits of the product
+    return static_cast<std::size_t>(edge * 0x9e3779b97f4a7c15ull >> shift_);
+  }
+  const CrossingSet& set_;
+  std::size_t mask_ = 0;
+  int shift_ = 60;
+  std::vector<std::array<std::uint32_t, 2>> slots_;  // (edge, first crossing), edge kNone: empty
+};
+
 // The partner of crossing `ci` = (e, f) inside the triangle pair (t, f), t incident to e.
-Link follow(const SceneTopology& topo, const CrossingSet& set, std::uint32_t ci, std::uint32_t t) {
+Link follow(const SceneTopology& topo, const CrossingSet& set, const CrossingIndex& index,
+            std::uint32_t ci, std::uint32_t t) {
   const RawCrossing& c = set.items[ci];
   const std::uint32_t f = c.face;
   Link link;
@@ -47,7 +91,7 @@ Link follow(const SceneTopology& topo, const CrossingSet& set, std::uint32_t ci,
   for (int k = 0; k < 3; ++k) {  // another edge of t through f: same roles
     const std::uint32_t e = topo.tri_edges[t][k];
     if (e == c.edge || has_vertex(ff, tt[k]) || has_vertex(ff, tt[(k + 1) % 3])) continue;
-    const std::uint32_t other = set.find(e, f);
+    const std::uint32_t other = index.find(e, f);
     if (other != kNone) {
       link.kind = LinkKind::kCrossing;
       link.target = other;
@@ -58,7 +102,7 @@ Link follow(const SceneTopology& topo, const CrossingSet& set, std::uint32_t ci,
   for (int k = 0; k < 3; ++k) {  // an edge of f through t: the roles swap
     const std::uint32_t g = topo.tri_edges[f][k];
     if (has_vertex(tt, ff[k]) || has_vertex(tt, ff[(k + 1) % 3])) continue;
-    const std::uint32_t other = set.find(g, t);
+    const std::uint32_t other = index.find(g, t);
     if (other != kNone) {
       link.kind = LinkKind::kCrossing;
       link.target = other;
@@ -130,11 +174,12 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
   // Links of every crossing, one per triangle incident to its edge (boundary edges add an end).
   std::vector<std::uint32_t> link_begin(n + 1, 0);
   std::vector<Link> links;
+  const CrossingIndex index(set);
   for (std::uint32_t ci = 0; ci < n; ++ci) {
     link_begin[ci] = static_cast<std::uint32_t>(links.size());
     const std::uint32_t e = set.items[ci].edge;
     for (std::uint32_t i = topo.edge_face_begin[e]; i < topo.edge_face_begin[e + 1]; ++i) {
-      links.push_back(follow(topo, set, ci, topo.edge_faces[i]));
+      links.push_back(follow(topo, set, index, ci, topo.edge_faces[i]));
     }
     if (topo.is_boundary(e)) {
       Link end;
@@ -310,19 +355,31 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
   }
 
   // Track types, cut edges and separation.
-  // A vertex's share of area: a third of each incident triangle, each reached once, through the
-  // edge from v to the corner that follows v in it. Computed only for the vertices of a separated
-  // side, not for the whole scene.
-  auto vertex_area = [&](std::uint32_t v) {
+  // The area of a side (a third of each triangle per corner in the side), each triangle computed
+  // once: from its first corner in the side, reached through the edge from that corner to the one
+  // that follows it in the triangle. `in_side(v)` tells the side's vertices. Computed only for
+  // the vertices of a separated side, not for the whole scene.
+  auto side_area = [&](const std::vector<std::uint32_t>& side, const auto& in_side) {
     double area = 0.0;
-    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-      const std::uint32_t e = topo.vertex_edges[i];
-      const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
-      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
-        const auto& tri = topo.tris[topo.edge_faces[k]];
-        const int at = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
-        if (tri[(at + 1) % 3] != w) continue;
-        area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) / 3.0;
+    for (std::uint32_t v : side) {
+      for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+        const std::uint32_t e = topo.vertex_edges[i];
+        const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
+        for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
+          const auto& tri = topo.tris[topo.edge_faces[k]];
+          const int at = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
+          if (tri[(at + 1) % 3] != w) continue;
+          int corners = 0;
+          bool first = true;
+          for (int c = 0; c < 3; ++c) {
+            if (!in_side(tri[c])) continue;
+            if (corners == 0 && c != at) first = false;
+            ++corners;
+          }
+          if (!first) continue;
+          area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) *
+                  corners / 3.0;
+        }
       }
     }
     return area;
@@ -382,9 +439,8 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
       }
       if (!met && finished >= 0) {
         track.separates = true;
-        double area = 0.0;
-        for (std::uint32_t v : queue[finished]) area += vertex_area(v);
-        track.smaller_area = area;
+        const auto mark = static_cast<std::uint8_t>(finished + 1);
+        track.smaller_area = side_area(queue[finished], [&](std::uint32_t v) { return side_of[v] == mark; });
       }
       for (int s = 0; s < 2; ++s)
         for (std::uint32_t v : queue[s]) side_of[v] = 0;
