@@ -51,7 +51,9 @@ class TriangleBvh {
   template <class F>
   void each_pair_with(const TriangleBvh& other, const F& f) const {
     if (nodes_.empty() || other.nodes_.empty()) return;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0u, 0u}};
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
+    stack.reserve(128);  // about the sum of the two depths
+    stack.push_back({0u, 0u});
     while (!stack.empty()) {
       const auto [i, j] = stack.back();
       stack.pop_back();
