@@ -5,6 +5,11 @@
 #include <cmath>
 #include <numeric>
 
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
 namespace untangle {
 namespace {
 
@@ -169,7 +174,117 @@ std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
   return count;
 }
 
-std::vector<TracedContour> build_contours(const SceneTopology& topo, const CrossingSet& set) {
+namespace {
+
+// Per-thread flags of a separation test, all zero between tests (sized on first use).
+struct SeparationScratch {
+  std::vector<std::uint8_t> cut;      // per edge
+  std::vector<std::uint8_t> side_of;  // per welded vertex: 0, or 1 + the side that reached it
+};
+
+// The area of a side (a third of each triangle per corner in the side), each triangle computed
+// once: from its first corner in the side, reached through the edge from that corner to the one
+// that follows it in the triangle. `in_side(v)` tells the side's vertices. Computed only for the
+// vertices of a separated side, not for the whole scene.
+template <class InSide>
+double side_area(const SceneTopology& topo, const std::vector<std::uint32_t>& side, const InSide& in_side) {
+  double area = 0.0;
+  for (std::uint32_t v : side) {
+    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+      const std::uint32_t e = topo.vertex_edges[i];
+      const std::uint32_t w = topo.edges[e][0] ^ topo.edges[e][1] ^ v;
+      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
+        const auto& tri = topo.tris[topo.edge_faces[k]];
+        const int at = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
+        if (tri[at == 2 ? 0 : at + 1] != w) continue;
+        int corners = 0;
+        bool first = true;
+        for (int c = 0; c < 3; ++c) {
+          if (!in_side(tri[c])) continue;
+          if (corners == 0 && c != at) first = false;
+          ++corners;
+        }
+        if (!first) continue;
+        area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) *
+                corners / 3.0;
+      }
+    }
+  }
+  return area;
+}
+
+// Type, cut edges and separation of track k of a traced contour.
+void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedContour& traced, int k,
+                    SeparationScratch& scratch) {
+  Contour& contour = traced.contour;
+  Track& track = contour.tracks[k];
+  if (contour.closed) track.type = TrackType::kCL;
+  else if (track.boundary_ends >= 2) track.type = TrackType::kBB;
+  else if (track.boundary_ends == 1) track.type = TrackType::kBI;
+  else track.type = TrackType::kII;
+
+  std::vector<std::uint32_t> edges;
+  for (std::size_t i = 0; i < contour.crossings.size(); ++i)
+    if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
+  const std::vector<std::uint32_t> odd = odd_edges(edges);
+  track.cut_edges = odd.size();
+  if (track.type != TrackType::kCL && track.type != TrackType::kBB) return;
+  if (odd.empty()) {  // cuts off no vertex: a disk inside faces, or a sliver at the boundary
+    track.separates = true;
+    return;
+  }
+  std::vector<std::uint8_t>& cut = scratch.cut;
+  std::vector<std::uint8_t>& side_of = scratch.side_of;
+  if (cut.empty()) {
+    cut.assign(topo.edges.size(), 0);
+    side_of.assign(topo.points.size(), 0);
+  }
+  for (std::uint32_t e : odd) cut[e] = 1;
+  // Grow the two sides of the first cut edge in lock step, never crossing a cut: if one side
+  // runs out first it is a separate region (the smaller side by vertex count); if the two
+  // fronts meet, the track separates nothing. Cost: the smaller side, not the mesh.
+  const std::uint32_t seeds[2] = {topo.edges[odd.front()][0], topo.edges[odd.front()][1]};
+  std::vector<std::uint32_t> queue[2] = {{seeds[0]}, {seeds[1]}};
+  std::size_t head[2] = {0, 0};
+  side_of[seeds[0]] = 1;
+  side_of[seeds[1]] = 2;
+  bool met = false;
+  int finished = -1;
+  while (!met && finished < 0) {
+    for (int s = 0; s < 2 && !met && finished < 0; ++s) {
+      if (head[s] == queue[s].size()) {
+        finished = s;
+        break;
+      }
+      const std::uint32_t v = queue[s][head[s]++];
+      const auto mark = static_cast<std::uint8_t>(s + 1);
+      for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+        const std::uint32_t e = topo.vertex_edges[i];
+        if (cut[e]) continue;
+        const std::uint32_t w = topo.edges[e][0] ^ topo.edges[e][1] ^ v;
+        if (side_of[w] == 0) {
+          side_of[w] = mark;
+          queue[s].push_back(w);
+        } else if (side_of[w] != mark) {
+          met = true;
+          break;
+        }
+      }
+    }
+  }
+  if (!met && finished >= 0) {
+    track.separates = true;
+    const auto mark = static_cast<std::uint8_t>(finished + 1);
+    track.smaller_area = side_area(topo, queue[finished], [&](std::uint32_t v) { return side_of[v] == mark; });
+  }
+  for (int s = 0; s < 2; ++s)
+    for (std::uint32_t v : queue[s]) side_of[v] = 0;
+  for (std::uint32_t e : odd) cut[e] = 0;
+}
+
+}  // namespace
+
+std::vector<TracedContour> build_contours(const SceneTopology& topo, const CrossingSet& set, int threads) {
   const std::size_t n = set.items.size();
   // Links of every crossing, one per triangle incident to its edge (boundary edges add an end).
   std::vector<std::uint32_t> link_begin(n + 1, 0);
@@ -354,97 +469,27 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
     out.push_back(std::move(traced));
   }
 
-  // Track types, cut edges and separation.
-  // The area of a side (a third of each triangle per corner in the side), each triangle computed
-  // once: from its first corner in the side, reached through the edge from that corner to the one
-  // that follows it in the triangle. `in_side(v)` tells the side's vertices. Computed only for
-  // the vertices of a separated side, not for the whole scene.
-  auto side_area = [&](const std::vector<std::uint32_t>& side, const auto& in_side) {
-    double area = 0.0;
-    for (std::uint32_t v : side) {
-      for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-        const std::uint32_t e = topo.vertex_edges[i];
-        const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
-        for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
-          const auto& tri = topo.tris[topo.edge_faces[k]];
-          const int at = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
-          if (tri[(at + 1) % 3] != w) continue;
-          int corners = 0;
-          bool first = true;
-          for (int c = 0; c < 3; ++c) {
-            if (!in_side(tri[c])) continue;
-            if (corners == 0 && c != at) first = false;
-            ++corners;
-          }
-          if (!first) continue;
-          area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) *
-                  corners / 3.0;
-        }
-      }
-    }
-    return area;
+  // Track types, cut edges and separation: each track on its own (in parallel, with its own
+  // scratch), written into its own slot.
+  std::vector<std::array<std::uint32_t, 2>> jobs;  // (contour, track)
+  for (std::uint32_t c = 0; c < out.size(); ++c) jobs.push_back({c, 0}), jobs.push_back({c, 1});
+  tbb::enumerable_thread_specific<SeparationScratch> scratches;
+  auto classify = [&](std::size_t begin, std::size_t end) {
+    SeparationScratch& scratch = scratches.local();
+    for (std::size_t j = begin; j < end; ++j) classify_track(topo, set, out[jobs[j][0]], jobs[j][1], scratch);
   };
-  std::vector<std::uint8_t> cut(topo.edges.size(), 0);
-  std::vector<std::uint8_t> side_of(topo.points.size(), 0);
-  for (TracedContour& traced : out) {
-    Contour& contour = traced.contour;
-    for (int k = 0; k < 2; ++k) {
-      Track& track = contour.tracks[k];
-      if (contour.closed) track.type = TrackType::kCL;
-      else if (track.boundary_ends >= 2) track.type = TrackType::kBB;
-      else if (track.boundary_ends == 1) track.type = TrackType::kBI;
-      else track.type = TrackType::kII;
-
-      std::vector<std::uint32_t> edges;
-      for (std::size_t i = 0; i < contour.crossings.size(); ++i)
-        if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
-      const std::vector<std::uint32_t> odd = odd_edges(edges);
-      track.cut_edges = odd.size();
-      if (track.type != TrackType::kCL && track.type != TrackType::kBB) continue;
-      if (odd.empty()) {  // cuts off no vertex: a disk inside faces, or a sliver at the boundary
-        track.separates = true;
-        continue;
-      }
-      for (std::uint32_t e : odd) cut[e] = 1;
-      // Grow the two sides of the first cut edge in lock step, never crossing a cut: if one side
-      // runs out first it is a separate region (the smaller side by vertex count); if the two
-      // fronts meet, the track separates nothing. Cost: the smaller side, not the mesh.
-      const std::uint32_t seeds[2] = {topo.edges[odd.front()][0], topo.edges[odd.front()][1]};
-      std::vector<std::uint32_t> queue[2] = {{seeds[0]}, {seeds[1]}};
-      std::size_t head[2] = {0, 0};
-      side_of[seeds[0]] = 1;
-      side_of[seeds[1]] = 2;
-      bool met = false;
-      int finished = -1;
-      while (!met && finished < 0) {
-        for (int s = 0; s < 2 && !met && finished < 0; ++s) {
-          if (head[s] == queue[s].size()) {
-            finished = s;
-            break;
-          }
-          const std::uint32_t v = queue[s][head[s]++];
-          for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-            const std::uint32_t e = topo.vertex_edges[i];
-            if (cut[e]) continue;
-            const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
-            if (side_of[w] == 0) {
-              side_of[w] = static_cast<std::uint8_t>(s + 1);
-              queue[s].push_back(w);
-            } else if (side_of[w] != s + 1) {
-              met = true;
-              break;
-            }
-          }
-        }
-      }
-      if (!met && finished >= 0) {
-        track.separates = true;
-        const auto mark = static_cast<std::uint8_t>(finished + 1);
-        track.smaller_area = side_area(queue[finished], [&](std::uint32_t v) { return side_of[v] == mark; });
-      }
-      for (int s = 0; s < 2; ++s)
-        for (std::uint32_t v : queue[s]) side_of[v] = 0;
-      for (std::uint32_t e : odd) cut[e] = 0;
+  if (threads == 1 || jobs.size() < 2) {
+    classify(0, jobs.size());
+  } else {
+    auto loop = [&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs.size(), 1),
+                        [&](const tbb::blocked_range<std::size_t>& r) { classify(r.begin(), r.end()); });
+    };
+    if (threads > 0) {
+      tbb::task_arena arena(threads);
+      arena.execute(loop);
+    } else {
+      loop();
     }
   }
   return out;
