@@ -198,6 +198,11 @@ TEST(DetectProperty, SameResultForEveryThreadCount) {
   for (std::size_t k = 0; k < a.contours.size(); ++k) {
     EXPECT_EQ(a.contours[k].crossings, b.contours[k].crossings);
     EXPECT_EQ(a.contours[k].polyline, c.contours[k].polyline);
+    for (int t = 0; t < 2; ++t) {  // tracks are classified in parallel
+      EXPECT_EQ(a.contours[k].tracks[t].separates, b.contours[k].tracks[t].separates);
+      EXPECT_EQ(a.contours[k].tracks[t].smaller_area, c.contours[k].tracks[t].smaller_area);
+      EXPECT_EQ(a.contours[k].tracks[t].type, c.contours[k].tracks[t].type);
+    }
   }
 }
 

@@ -5,10 +5,9 @@
 #include <cmath>
 #include <numeric>
 
-#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
+
+#include "detect/run_parallel.h"
 
 namespace untangle {
 namespace {
@@ -478,20 +477,7 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
     SeparationScratch& scratch = scratches.local();
     for (std::size_t j = begin; j < end; ++j) classify_track(topo, set, out[jobs[j][0]], jobs[j][1], scratch);
   };
-  if (threads == 1 || jobs.size() < 2) {
-    classify(0, jobs.size());
-  } else {
-    auto loop = [&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, jobs.size(), 1),
-                        [&](const tbb::blocked_range<std::size_t>& r) { classify(r.begin(), r.end()); });
-    };
-    if (threads > 0) {
-      tbb::task_arena arena(threads);
-      arena.execute(loop);
-    } else {
-      loop();
-    }
-  }
+  run_parallel(jobs.size() < 2 ? 1 : threads, jobs.size(), 1, classify);
   return out;
 }
 

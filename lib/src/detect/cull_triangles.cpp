@@ -11,7 +11,7 @@ namespace untangle {
 namespace {
 
 // Cells along the longest axis of the grid (the other axes in proportion, at least one).
-constexpr int kCells = 32;  // < 256: cells are bytes
+constexpr int kCells = 64;  // < 256: cells are bytes
 // Marking is abandoned (nothing culled) when the triangles' boxes cover more cells than this many
 // per triangle on average: huge overlapping triangles would make the grid cost more than it saves.
 constexpr std::size_t kCellsPerTriangle = 64;

@@ -1,15 +1,12 @@
 // Detection: bounding-volume hierarchies for candidate pairs, exact perturbed predicates for crossings.
 #include "detect/detect_crossings.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <memory>
 
 #include "detect/cull_triangles.h"
 #include "detect/orientation.h"
+#include "detect/run_parallel.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <cmath>
@@ -190,20 +187,6 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, P
     return false;
   };
   return separates(a, b, turn_a) || separates(b, a, turn_b);
-}
-
-template <class Body>
-void run_parallel(int threads, std::size_t n, std::size_t grain, const Body& body) {
-  auto loop = [&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
-  };
-  if (threads > 0) {
-    tbb::task_arena arena(threads);
-    arena.execute(loop);
-  } else {
-    loop();
-  }
 }
 
 }  // namespace
