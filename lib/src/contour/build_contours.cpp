@@ -179,35 +179,40 @@ namespace {
 struct SeparationScratch {
   std::vector<std::uint8_t> cut;      // per edge
   std::vector<std::uint8_t> side_of;  // per welded vertex: 0, or 1 + the side that reached it
+  std::vector<std::uint8_t> seen;     // per triangle
+  std::vector<std::uint32_t> triangles;
 };
 
-// The area of a side (a third of each triangle per corner in the side), each triangle computed
-// once: from its first corner in the side, reached through the edge from that corner to the one
-// that follows it in the triangle. `in_side(v)` tells the side's vertices. Computed only for the
-// vertices of a separated side, not for the whole scene.
-template <class InSide>
-double side_area(const SceneTopology& topo, const std::vector<std::uint32_t>& side, const InSide& in_side) {
-  double area = 0.0;
+// The area of a side: a third of each triangle per corner in the side (`mark` in side_of). The
+// triangles around the side's vertices are listed once each, then weighted; written without
+// data-dependent branches (which side a corner lies on is not predictable), so this costs little
+// more than reading the fans.
+double side_area(const SceneTopology& topo, const std::vector<std::uint32_t>& side, std::uint8_t mark,
+                 SeparationScratch& scratch) {
+  std::vector<std::uint8_t>& seen = scratch.seen;
+  std::vector<std::uint32_t>& list = scratch.triangles;
+  if (seen.empty()) seen.assign(topo.tris.size(), 0);
+  std::size_t count = 0;
   for (std::uint32_t v : side) {
     for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
       const std::uint32_t e = topo.vertex_edges[i];
-      const std::uint32_t w = topo.edges[e][0] ^ topo.edges[e][1] ^ v;
-      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
-        const auto& tri = topo.tris[topo.edge_faces[k]];
-        const int at = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
-        if (tri[at == 2 ? 0 : at + 1] != w) continue;
-        int corners = 0;
-        bool first = true;
-        for (int c = 0; c < 3; ++c) {
-          if (!in_side(tri[c])) continue;
-          if (corners == 0 && c != at) first = false;
-          ++corners;
-        }
-        if (!first) continue;
-        area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) *
-                corners / 3.0;
+      const std::uint32_t first = topo.edge_face_begin[e], last = topo.edge_face_begin[e + 1];
+      if (list.size() < count + (last - first)) list.resize(2 * (count + (last - first)));
+      for (std::uint32_t k = first; k < last; ++k) {
+        const std::uint32_t t = topo.edge_faces[k];
+        list[count] = t;
+        count += seen[t] ^ 1u;
+        seen[t] = 1;
       }
     }
+  }
+  double area = 0.0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto& tri = topo.tris[list[i]];
+    seen[list[i]] = 0;
+    const int corners = (scratch.side_of[tri[0]] == mark) + (scratch.side_of[tri[1]] == mark) +
+                        (scratch.side_of[tri[2]] == mark);
+    area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) * corners / 3.0;
   }
   return area;
 }
@@ -274,7 +279,7 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
   if (!met && finished >= 0) {
     track.separates = true;
     const auto mark = static_cast<std::uint8_t>(finished + 1);
-    track.smaller_area = side_area(topo, queue[finished], [&](std::uint32_t v) { return side_of[v] == mark; });
+    track.smaller_area = side_area(topo, queue[finished], mark, scratch);
   }
   for (int s = 0; s < 2; ++s)
     for (std::uint32_t v : queue[s]) side_of[v] = 0;
