@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 
 #include "detect/cull_triangles.h"
 #include "detect/orientation.h"
@@ -112,12 +113,18 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, P
   const std::vector<Vec3>& P = topo.points;
   auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const std::array<std::uint32_t, 3>& other,
                       bool& coplanar, std::array<int, 3>& side) {
-    const PlaneFilter filter(P[plane[0]], P[plane[1]], P[plane[2]]);
+    // A plane normal to an axis (flat sheets: nearly every plane) leaves the filter nothing to
+    // decide: orient_exact finds its exact zeros at once. Other planes try the filter first.
+    const Vec3 &p0 = P[plane[0]], &p1 = P[plane[1]], &p2 = P[plane[2]];
+    bool flat = false;
+    for (int k = 0; k < 3; ++k) flat = flat || (p0[k] == p1[k] && p0[k] == p2[k]);
+    std::optional<PlaneFilter> filter;
+    if (!flat) filter.emplace(p0, p1, p2);
     int pos = 0, neg = 0, zero = 0;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = other[k];
       if (contains(plane, v)) continue;
-      int o = filter.side(P[v]);
+      int o = filter ? filter->side(P[v]) : 0;
       if (o == 0) o = orient_exact(P, plane[0], plane[1], plane[2], v);
       side[k] = o;
       pos += o > 0;
