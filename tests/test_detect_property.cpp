@@ -8,6 +8,7 @@
 #include <set>
 
 #include "contour/build_contours.h"
+#include "detect/cull_triangles.h"
 #include "detect/detect_crossings.h"
 #include "topology/scene_topology.h"
 #include "untangle/intersections.h"
@@ -197,7 +198,75 @@ TEST(DetectProperty, SameResultForEveryThreadCount) {
   for (std::size_t k = 0; k < a.contours.size(); ++k) {
     EXPECT_EQ(a.contours[k].crossings, b.contours[k].crossings);
     EXPECT_EQ(a.contours[k].polyline, c.contours[k].polyline);
+    for (int t = 0; t < 2; ++t) {  // tracks are classified in parallel
+      EXPECT_EQ(a.contours[k].tracks[t].separates, b.contours[k].tracks[t].separates);
+      EXPECT_EQ(a.contours[k].tracks[t].smaller_area, c.contours[k].tracks[t].smaller_area);
+      EXPECT_EQ(a.contours[k].tracks[t].type, c.contours[k].tracks[t].type);
+    }
   }
+}
+
+// Without self pairs only the triangles near another mesh are kept (cull_triangles) and the
+// hierarchies are built over those: the culling is conservative (every triangle whose box touches
+// a triangle box of another mesh is kept, touching exactly included: the scenes are grid-snapped),
+// and detection finds exactly the brute force's crossings between different meshes. The same
+// scenes are repeated scaled and shifted by non-integers, where the grid's rounding is inexact.
+TEST(DetectProperty, BetweenMeshesOnlyKeepsEveryNearTriangle) {
+  std::mt19937 rng(20261122);
+  std::size_t total = 0, culled = 0;
+  for (int round = 0; round < 2000; ++round) {
+    std::vector<Mesh> meshes = random_scene(rng, round);
+    if (meshes.size() < 2) continue;
+    std::uniform_int_distribution<int> shift(0, 3);
+    for (std::size_t m = 1; m < meshes.size(); ++m) {  // partly apart: something to cull
+      const double dx = shift(rng), dy = shift(rng);
+      for (Vec3& p : meshes[m].positions) {
+        p[0] += dx;
+        p[1] += dy;
+      }
+    }
+    if (round % 2 == 1) {
+      for (Mesh& m : meshes)
+        for (Vec3& p : m.positions)
+          for (double& x : p) x = x * 0.7310000000000001 + 0.1;
+    }
+    const SceneTopology topo = build_topology(meshes);
+    const std::size_t mesh_count = topo.mesh_tri_begin.size() - 1;
+    const std::vector<std::vector<std::uint32_t>> kept =
+        cull_triangles(topo, std::vector<bool>(mesh_count, true));
+    std::vector<std::uint8_t> is_kept(topo.tris.size(), 0);
+    for (const auto& list : kept) {
+      ASSERT_TRUE(std::is_sorted(list.begin(), list.end()));
+      for (std::uint32_t t : list) is_kept[t] = 1;
+    }
+    std::set<std::pair<std::uint32_t, std::uint32_t>> brute;
+    for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
+      for (std::uint32_t u = 0; u < topo.tris.size(); ++u) {
+        if (topo.tri_mesh[t] == topo.tri_mesh[u]) continue;
+        if (triangle_box(topo, t).overlaps(triangle_box(topo, u))) {
+          ASSERT_TRUE(is_kept[t]) << "round " << round << ": triangle " << t << " near " << u << " culled";
+        }
+      }
+    }
+    for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
+      for (std::uint32_t f = 0; f < topo.tris.size(); ++f) {
+        const auto& tri = topo.tris[f];
+        if (topo.edge_mesh(e) == topo.tri_mesh[f]) continue;
+        if (has(tri, topo.edges[e][0]) || has(tri, topo.edges[e][1])) continue;
+        if (edge_crosses_triangle(topo.points, topo.edges[e][0], topo.edges[e][1], tri[0], tri[1], tri[2]))
+          brute.insert({e, f});
+      }
+    }
+    DetectSettings settings;
+    settings.threads = 1;
+    settings.self_pairs = false;
+    std::set<std::pair<std::uint32_t, std::uint32_t>> found;
+    for (const RawCrossing& c : detect_crossings(topo, settings).items) found.insert({c.edge, c.face});
+    ASSERT_EQ(found, brute) << "round " << round;
+    total += topo.tris.size();
+    culled += topo.tris.size() - std::count(is_kept.begin(), is_kept.end(), 1);
+  }
+  EXPECT_GT(culled, total / 10) << "the culling should drop some triangles of these scenes";
 }
 
 }  // namespace

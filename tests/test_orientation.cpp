@@ -4,6 +4,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <array>
+#include <cmath>
 #include <random>
 
 #include "detect/orientation.h"
@@ -60,6 +61,36 @@ TEST(Orientation, CoincidentPointsAreSeparated) {
   const int s = orient_sos(p, 0, 1, 2, 3);
   EXPECT_TRUE(s == 1 || s == -1);
   EXPECT_EQ(orient_sos(p, 3, 1, 2, 0), -s);
+}
+
+// The floating-point filter answers only when it is sure: its nonzero signs equal CGAL's exact
+// ones, on random points and on points rounded onto a plane (nearly coplanar, often exactly).
+TEST(Orientation, FilterAgreesWithCgalWhenItAnswers) {
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int answered = 0, undecided = 0;
+  for (int i = 0; i < 20000; ++i) {
+    std::array<Vec3, 4> p;
+    for (auto& v : p) v = {u(rng), u(rng), u(rng)};
+    if (i % 2 == 1) {  // d near the plane (a, b, c): an affine combination, rounded
+      const double s = u(rng), t = u(rng);
+      for (int k = 0; k < 3; ++k) p[3][k] = p[0][k] + s * (p[1][k] - p[0][k]) + t * (p[2][k] - p[0][k]);
+    }
+    if (i % 7 == 0) {  // integer coordinates: exact zeros
+      for (auto& v : p)
+        for (double& x : v) x = std::round(4.0 * x);
+    }
+    const int sure = orient_filtered(p[0], p[1], p[2], p[3]);
+    const int expected = cgal_orientation(p[0], p[1], p[2], p[3]);
+    if (sure != 0) {
+      ++answered;
+      ASSERT_EQ(sure, expected) << "case " << i;
+    } else {
+      ++undecided;
+    }
+  }
+  EXPECT_GT(answered, 10000);
+  EXPECT_GT(undecided, 1000);
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOp
   }
   const CrossingSet set = detect_crossings(topo, settings);
   const auto t1 = Clock::now();
-  const std::vector<TracedContour> traced = build_contours(topo, set);
+  const std::vector<TracedContour> traced = build_contours(topo, set, options.threads);
   Intersections result = summarize(topo, set, traced);
   const auto t2 = Clock::now();
   if (timings != nullptr) {

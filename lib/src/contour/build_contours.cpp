@@ -5,6 +5,10 @@
 #include <cmath>
 #include <numeric>
 
+#include <tbb/enumerable_thread_specific.h>
+
+#include "detect/run_parallel.h"
+
 namespace untangle {
 namespace {
 
@@ -35,8 +39,52 @@ double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
+// The crossings of a set by edge: an open-addressing table from an edge to its first crossing
+// (the set is sorted by edge, then face). Lookups are the inner loop of linking; a binary search
+// over the whole set costs several times more.
+class CrossingIndex {
+ public:
+  explicit CrossingIndex(const CrossingSet& set) : set_(set) {
+    std::size_t size = 16;
+    shift_ = 60;
+    while (size < 2 * set.items.size()) {
+      size *= 2;
+      --shift_;
+    }
+    mask_ = size - 1;
+    slots_.assign(size, {kNone, kNone});
+    for (std::uint32_t i = 0; i < set.items.size(); ++i) {
+      const std::uint32_t e = set.items[i].edge;
+      if (i > 0 && set.items[i - 1].edge == e) continue;
+      std::size_t h = slot(e);
+      while (slots_[h][0] != kNone) h = (h + 1) & mask_;
+      slots_[h] = {e, i};
+    }
+  }
+  // Index of the crossing (edge, face), or kNone (as CrossingSet::find).
+  std::uint32_t find(std::uint32_t edge, std::uint32_t face) const {
+    for (std::size_t h = slot(edge); slots_[h][0] != kNone; h = (h + 1) & mask_) {
+      if (slots_[h][0] != edge) continue;
+      for (std::uint32_t i = slots_[h][1]; i < set_.items.size() && set_.items[i].edge == edge; ++i)
+        if (set_.items[i].face == face) return i;
+      return kNone;
+    }
+    return kNone;
+  }
+
+ private:
+  std::size_t slot(std::uint32_t edge) const {  // Fibonacci hashing: the top bits of the product
+    return static_cast<std::size_t>(edge * 0x9e3779b97f4a7c15ull >> shift_);
+  }
+  const CrossingSet& set_;
+  std::size_t mask_ = 0;
+  int shift_ = 60;
+  std::vector<std::array<std::uint32_t, 2>> slots_;  // (edge, first crossing), edge kNone: empty
+};
+
 // The partner of crossing `ci` = (e, f) inside the triangle pair (t, f), t incident to e.
-Link follow(const SceneTopology& topo, const CrossingSet& set, std::uint32_t ci, std::uint32_t t) {
+Link follow(const SceneTopology& topo, const CrossingSet& set, const CrossingIndex& index,
+            std::uint32_t ci, std::uint32_t t) {
   const RawCrossing& c = set.items[ci];
   const std::uint32_t f = c.face;
   Link link;
@@ -47,7 +95,7 @@ Link follow(const SceneTopology& topo, const CrossingSet& set, std::uint32_t ci,
   for (int k = 0; k < 3; ++k) {  // another edge of t through f: same roles
     const std::uint32_t e = topo.tri_edges[t][k];
     if (e == c.edge || has_vertex(ff, tt[k]) || has_vertex(ff, tt[(k + 1) % 3])) continue;
-    const std::uint32_t other = set.find(e, f);
+    const std::uint32_t other = index.find(e, f);
     if (other != kNone) {
       link.kind = LinkKind::kCrossing;
       link.target = other;
@@ -58,7 +106,7 @@ Link follow(const SceneTopology& topo, const CrossingSet& set, std::uint32_t ci,
   for (int k = 0; k < 3; ++k) {  // an edge of f through t: the roles swap
     const std::uint32_t g = topo.tri_edges[f][k];
     if (has_vertex(tt, ff[k]) || has_vertex(tt, ff[(k + 1) % 3])) continue;
-    const std::uint32_t other = set.find(g, t);
+    const std::uint32_t other = index.find(g, t);
     if (other != kNone) {
       link.kind = LinkKind::kCrossing;
       link.target = other;
@@ -125,16 +173,132 @@ std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
   return count;
 }
 
-std::vector<TracedContour> build_contours(const SceneTopology& topo, const CrossingSet& set) {
+namespace {
+
+// Per-thread flags of a separation test, all zero between tests (sized on first use).
+struct SeparationScratch {
+  std::vector<std::uint8_t> cut;      // per edge
+  std::vector<std::uint8_t> side_of;  // per welded vertex: 0, or 1 + the side that reached it
+  std::vector<std::uint8_t> seen;     // per triangle
+  std::vector<std::uint32_t> triangles;
+};
+
+// The area of a side: a third of each triangle per corner in the side (`mark` in side_of). The
+// triangles around the side's vertices are listed once each, then weighted; written without
+// data-dependent branches (which side a corner lies on is not predictable), so this costs little
+// more than reading the fans.
+double side_area(const SceneTopology& topo, const std::vector<std::uint32_t>& side, std::uint8_t mark,
+                 SeparationScratch& scratch) {
+  std::vector<std::uint8_t>& seen = scratch.seen;
+  std::vector<std::uint32_t>& list = scratch.triangles;
+  if (seen.empty()) seen.assign(topo.tris.size(), 0);
+  std::size_t count = 0;
+  for (std::uint32_t v : side) {
+    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+      const std::uint32_t e = topo.vertex_edges[i];
+      const std::uint32_t first = topo.edge_face_begin[e], last = topo.edge_face_begin[e + 1];
+      if (list.size() < count + (last - first)) list.resize(2 * (count + (last - first)));
+      for (std::uint32_t k = first; k < last; ++k) {
+        const std::uint32_t t = topo.edge_faces[k];
+        list[count] = t;
+        count += seen[t] ^ 1u;
+        seen[t] = 1;
+      }
+    }
+  }
+  double area = 0.0;
+  for (std::size_t i = 0; i < count; ++i) {
+    const auto& tri = topo.tris[list[i]];
+    seen[list[i]] = 0;
+    const int corners = (scratch.side_of[tri[0]] == mark) + (scratch.side_of[tri[1]] == mark) +
+                        (scratch.side_of[tri[2]] == mark);
+    area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) * corners / 3.0;
+  }
+  return area;
+}
+
+// Type, cut edges and separation of track k of a traced contour.
+void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedContour& traced, int k,
+                    SeparationScratch& scratch) {
+  Contour& contour = traced.contour;
+  Track& track = contour.tracks[k];
+  if (contour.closed) track.type = TrackType::kCL;
+  else if (track.boundary_ends >= 2) track.type = TrackType::kBB;
+  else if (track.boundary_ends == 1) track.type = TrackType::kBI;
+  else track.type = TrackType::kII;
+
+  std::vector<std::uint32_t> edges;
+  for (std::size_t i = 0; i < contour.crossings.size(); ++i)
+    if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
+  const std::vector<std::uint32_t> odd = odd_edges(edges);
+  track.cut_edges = odd.size();
+  if (track.type != TrackType::kCL && track.type != TrackType::kBB) return;
+  if (odd.empty()) {  // cuts off no vertex: a disk inside faces, or a sliver at the boundary
+    track.separates = true;
+    return;
+  }
+  std::vector<std::uint8_t>& cut = scratch.cut;
+  std::vector<std::uint8_t>& side_of = scratch.side_of;
+  if (cut.empty()) {
+    cut.assign(topo.edges.size(), 0);
+    side_of.assign(topo.points.size(), 0);
+  }
+  for (std::uint32_t e : odd) cut[e] = 1;
+  // Grow the two sides of the first cut edge in lock step, never crossing a cut: if one side
+  // runs out first it is a separate region (the smaller side by vertex count); if the two
+  // fronts meet, the track separates nothing. Cost: the smaller side, not the mesh.
+  const std::uint32_t seeds[2] = {topo.edges[odd.front()][0], topo.edges[odd.front()][1]};
+  std::vector<std::uint32_t> queue[2] = {{seeds[0]}, {seeds[1]}};
+  std::size_t head[2] = {0, 0};
+  side_of[seeds[0]] = 1;
+  side_of[seeds[1]] = 2;
+  bool met = false;
+  int finished = -1;
+  while (!met && finished < 0) {
+    for (int s = 0; s < 2 && !met && finished < 0; ++s) {
+      if (head[s] == queue[s].size()) {
+        finished = s;
+        break;
+      }
+      const std::uint32_t v = queue[s][head[s]++];
+      const auto mark = static_cast<std::uint8_t>(s + 1);
+      for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
+        const std::uint32_t e = topo.vertex_edges[i];
+        if (cut[e]) continue;
+        const std::uint32_t w = topo.edges[e][0] ^ topo.edges[e][1] ^ v;
+        if (side_of[w] == 0) {
+          side_of[w] = mark;
+          queue[s].push_back(w);
+        } else if (side_of[w] != mark) {
+          met = true;
+          break;
+        }
+      }
+    }
+  }
+  if (!met && finished >= 0) {
+    track.separates = true;
+    const auto mark = static_cast<std::uint8_t>(finished + 1);
+    track.smaller_area = side_area(topo, queue[finished], mark, scratch);
+  }
+  for (int s = 0; s < 2; ++s)
+    for (std::uint32_t v : queue[s]) side_of[v] = 0;
+  for (std::uint32_t e : odd) cut[e] = 0;
+}
+
+}  // namespace
+
+std::vector<TracedContour> build_contours(const SceneTopology& topo, const CrossingSet& set, int threads) {
   const std::size_t n = set.items.size();
   // Links of every crossing, one per triangle incident to its edge (boundary edges add an end).
   std::vector<std::uint32_t> link_begin(n + 1, 0);
   std::vector<Link> links;
+  const CrossingIndex index(set);
   for (std::uint32_t ci = 0; ci < n; ++ci) {
     link_begin[ci] = static_cast<std::uint32_t>(links.size());
     const std::uint32_t e = set.items[ci].edge;
     for (std::uint32_t i = topo.edge_face_begin[e]; i < topo.edge_face_begin[e + 1]; ++i) {
-      links.push_back(follow(topo, set, ci, topo.edge_faces[i]));
+      links.push_back(follow(topo, set, index, ci, topo.edge_faces[i]));
     }
     if (topo.is_boundary(e)) {
       Link end;
@@ -309,88 +473,16 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
     out.push_back(std::move(traced));
   }
 
-  // Track types, cut edges and separation.
-  // A vertex's share of area: a third of each incident triangle, each reached once, through the
-  // edge from v to the corner that follows v in it. Computed only for the vertices of a separated
-  // side, not for the whole scene.
-  auto vertex_area = [&](std::uint32_t v) {
-    double area = 0.0;
-    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-      const std::uint32_t e = topo.vertex_edges[i];
-      const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
-      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
-        const auto& tri = topo.tris[topo.edge_faces[k]];
-        const int at = tri[0] == v ? 0 : tri[1] == v ? 1 : 2;
-        if (tri[(at + 1) % 3] != w) continue;
-        area += triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]) / 3.0;
-      }
-    }
-    return area;
+  // Track types, cut edges and separation: each track on its own (in parallel, with its own
+  // scratch), written into its own slot.
+  std::vector<std::array<std::uint32_t, 2>> jobs;  // (contour, track)
+  for (std::uint32_t c = 0; c < out.size(); ++c) jobs.push_back({c, 0}), jobs.push_back({c, 1});
+  tbb::enumerable_thread_specific<SeparationScratch> scratches;
+  auto classify = [&](std::size_t begin, std::size_t end) {
+    SeparationScratch& scratch = scratches.local();
+    for (std::size_t j = begin; j < end; ++j) classify_track(topo, set, out[jobs[j][0]], jobs[j][1], scratch);
   };
-  std::vector<std::uint8_t> cut(topo.edges.size(), 0);
-  std::vector<std::uint8_t> side_of(topo.points.size(), 0);
-  for (TracedContour& traced : out) {
-    Contour& contour = traced.contour;
-    for (int k = 0; k < 2; ++k) {
-      Track& track = contour.tracks[k];
-      if (contour.closed) track.type = TrackType::kCL;
-      else if (track.boundary_ends >= 2) track.type = TrackType::kBB;
-      else if (track.boundary_ends == 1) track.type = TrackType::kBI;
-      else track.type = TrackType::kII;
-
-      std::vector<std::uint32_t> edges;
-      for (std::size_t i = 0; i < contour.crossings.size(); ++i)
-        if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
-      const std::vector<std::uint32_t> odd = odd_edges(edges);
-      track.cut_edges = odd.size();
-      if (track.type != TrackType::kCL && track.type != TrackType::kBB) continue;
-      if (odd.empty()) {  // cuts off no vertex: a disk inside faces, or a sliver at the boundary
-        track.separates = true;
-        continue;
-      }
-      for (std::uint32_t e : odd) cut[e] = 1;
-      // Grow the two sides of the first cut edge in lock step, never crossing a cut: if one side
-      // runs out first it is a separate region (the smaller side by vertex count); if the two
-      // fronts meet, the track separates nothing. Cost: the smaller side, not the mesh.
-      const std::uint32_t seeds[2] = {topo.edges[odd.front()][0], topo.edges[odd.front()][1]};
-      std::vector<std::uint32_t> queue[2] = {{seeds[0]}, {seeds[1]}};
-      std::size_t head[2] = {0, 0};
-      side_of[seeds[0]] = 1;
-      side_of[seeds[1]] = 2;
-      bool met = false;
-      int finished = -1;
-      while (!met && finished < 0) {
-        for (int s = 0; s < 2 && !met && finished < 0; ++s) {
-          if (head[s] == queue[s].size()) {
-            finished = s;
-            break;
-          }
-          const std::uint32_t v = queue[s][head[s]++];
-          for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-            const std::uint32_t e = topo.vertex_edges[i];
-            if (cut[e]) continue;
-            const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
-            if (side_of[w] == 0) {
-              side_of[w] = static_cast<std::uint8_t>(s + 1);
-              queue[s].push_back(w);
-            } else if (side_of[w] != s + 1) {
-              met = true;
-              break;
-            }
-          }
-        }
-      }
-      if (!met && finished >= 0) {
-        track.separates = true;
-        double area = 0.0;
-        for (std::uint32_t v : queue[finished]) area += vertex_area(v);
-        track.smaller_area = area;
-      }
-      for (int s = 0; s < 2; ++s)
-        for (std::uint32_t v : queue[s]) side_of[v] = 0;
-      for (std::uint32_t e : odd) cut[e] = 0;
-    }
-  }
+  run_parallel(jobs.size() < 2 ? 1 : threads, jobs.size(), 1, classify);
   return out;
 }
 

@@ -24,9 +24,10 @@ struct TracedContour {
 // Any set whose ids are in range (sorted and unique, as CrossingSet requires) is safe, not only a
 // real detection: every crossing lies on exactly one contour, and a contour whose links are
 // inconsistent (a missing partner, a link into another contour, a chain that runs into itself)
-// is marked broken and lists its crossings in breadth-first order.
+// is marked broken and lists its crossings in breadth-first order. The tracks are classified in
+// parallel on `threads` threads (0: all cores; the same result for every count).
 std::vector<TracedContour> build_contours(const SceneTopology& topology,
-                                          const CrossingSet& crossings);
+                                          const CrossingSet& crossings, int threads = 1);
 
 // The edges that occur an odd number of times in `crossed` (the edges a set of contours cuts),
 // ascending. `crossed` is sorted in place.

@@ -1,14 +1,13 @@
 // Detection: bounding-volume hierarchies for candidate pairs, exact perturbed predicates for crossings.
 #include "detect/detect_crossings.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
-
 #include <algorithm>
 #include <memory>
+#include <optional>
 
+#include "detect/cull_triangles.h"
 #include "detect/orientation.h"
+#include "detect/run_parallel.h"
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <cmath>
@@ -28,18 +27,33 @@ bool contains(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
   return tri[0] == v || tri[1] == v || tri[2] == v;
 }
 
+// Whether the line pq meets the interior of triangle (a, b, c) under the perturbation: it turns
+// the same way around all three edges.
+bool line_through_triangle(const std::vector<Vec3>& points, std::uint32_t p, std::uint32_t q,
+                           std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+  const int s1 = orient_sos(points, p, q, a, b);
+  const int s2 = orient_sos(points, p, q, b, c);
+  if (s1 != s2) return false;
+  return orient_sos(points, p, q, c, a) == s1;
+}
+
 // Tests the edges of `t` that t owns (t is their lowest incident triangle) and that share no vertex
-// with `f`, against f.
+// with `f`, against f. `side[k]`: the exact side of t's corner k of f's plane when already known
+// (surely_apart), else 0; a zero is decided by the perturbation.
 void test_owned_edges(const SceneTopology& topo, std::uint32_t t, std::uint32_t f,
-                      std::vector<RawCrossing>& out) {
+                      const std::array<int, 3>& side, std::vector<RawCrossing>& out) {
   const auto& tri = topo.tris[t];
   const auto& face = topo.tris[f];
+  auto side_of = [&](int k) {
+    return side[k] != 0 ? side[k] : orient_sos(topo.points, face[0], face[1], face[2], tri[k]);
+  };
   for (int k = 0; k < 3; ++k) {
     const std::uint32_t e = topo.tri_edges[t][k];
     if (topo.edge_faces[topo.edge_face_begin[e]] != t) continue;
     const std::uint32_t p = tri[k], q = tri[(k + 1) % 3];
     if (contains(face, p) || contains(face, q)) continue;
-    if (edge_crosses_triangle(topo.points, p, q, face[0], face[1], face[2])) {
+    if (side_of(k) == side_of((k + 1) % 3)) continue;
+    if (line_through_triangle(topo.points, p, q, face[0], face[1], face[2])) {
       out.push_back({e, f,
                      crossing_point(topo.points[p], topo.points[q], topo.points[face[0]],
                                     topo.points[face[1]], topo.points[face[2]])});
@@ -83,34 +97,34 @@ int orient_2d(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
                                             K::Point_2(c[i], c[j])));
 }
 
-bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u) {
-  return triangles_surely_apart(topo.points, topo.tris[t], topo.tris[u]);
-}
+// Whether triangles t and u (sharing at most one vertex) provably yield no crossing under every
+// infinitesimal perturbation, so the exact tests can be skipped: the non-shared corners of one lie
+// strictly on one side of the other's plane, or the two are coplanar and a line through an edge of
+// one strictly separates them (with a shared vertex: a line through it and an edge). Flat sheets
+// make most neighbouring pairs coplanar, where the perturbed tests would otherwise do all the work.
+// The exact sides found on the way are kept in `sides` for the edge tests (0 where not known).
+struct PairSides {
+  std::array<int, 3> of_t{}, of_u{};  // t's corners against u's plane, u's against t's
+};
 
-template <class Body>
-void run_parallel(int threads, std::size_t n, std::size_t grain, const Body& body) {
-  auto loop = [&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, grain),
-                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
-  };
-  if (threads > 0) {
-    tbb::task_arena arena(threads);
-    arena.execute(loop);
-  } else {
-    loop();
-  }
-}
-
-}  // namespace
-
-bool triangles_surely_apart(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3>& a,
-                            const std::array<std::uint32_t, 3>& b) {
+bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3>& a,
+                     const std::array<std::uint32_t, 3>& b, PairSides& sides) {
   auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const std::array<std::uint32_t, 3>& other,
-                      bool& coplanar) {
+                      bool& coplanar, std::array<int, 3>& side) {
+    // A plane normal to an axis (flat sheets: nearly every plane) leaves the filter nothing to
+    // decide: orient_exact finds its exact zeros at once. Other planes try the filter first.
+    const Vec3 &p0 = P[plane[0]], &p1 = P[plane[1]], &p2 = P[plane[2]];
+    bool flat = false;
+    for (int k = 0; k < 3; ++k) flat = flat || (p0[k] == p1[k] && p0[k] == p2[k]);
+    std::optional<PlaneFilter> filter;
+    if (!flat) filter.emplace(p0, p1, p2);
     int pos = 0, neg = 0, zero = 0;
-    for (std::uint32_t v : other) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t v = other[k];
       if (contains(plane, v)) continue;
-      const int o = orient_exact(P, plane[0], plane[1], plane[2], v);
+      int o = filter ? filter->side(P[v]) : 0;
+      if (o == 0) o = orient_exact(P, plane[0], plane[1], plane[2], v);
+      side[k] = o;
       pos += o > 0;
       neg += o < 0;
       zero += o == 0;
@@ -119,10 +133,10 @@ bool triangles_surely_apart(const std::vector<Vec3>& P, const std::array<std::ui
     return zero == 0 && (pos == 0 || neg == 0);
   };
   bool coplanar_b = false, coplanar_a = false;
-  if (one_side(a, b, coplanar_b)) return true;
+  if (one_side(a, b, coplanar_b, sides.of_u)) return true;
   // b's free corners in a's plane: b lies in that plane (or is degenerate), a in b's, and the test
   // from b's side can only find zeros.
-  if (!coplanar_b && one_side(b, a, coplanar_a)) return true;
+  if (!coplanar_b && one_side(b, a, coplanar_a, sides.of_t)) return true;
   if (!coplanar_b) return false;
   // Coplanar: project along the dominant axis of t's normal (skip degenerate projections).
   const Vec3 &p0 = P[a[0]], &p1 = P[a[1]], &p2 = P[a[2]];
@@ -180,6 +194,17 @@ bool triangles_surely_apart(const std::vector<Vec3>& P, const std::array<std::ui
   return separates(a, b, turn_a) || separates(b, a, turn_b);
 }
 
+bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, PairSides& sides) {
+  return surely_apart_at(topo.points, topo.tris[t], topo.tris[u], sides);
+}
+
+}  // namespace
+
+bool triangles_surely_apart(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& a,
+                            const std::array<std::uint32_t, 3>& b) {
+  PairSides sides;
+  return surely_apart_at(points, a, b, sides);
+}
 
 std::uint32_t CrossingSet::find(std::uint32_t edge, std::uint32_t face) const {
   auto it = std::lower_bound(items.begin(), items.end(), std::make_pair(edge, face),
@@ -195,11 +220,7 @@ bool edge_crosses_triangle(const std::vector<Vec3>& points, std::uint32_t p, std
   const int sp = orient_sos(points, a, b, c, p);
   const int sq = orient_sos(points, a, b, c, q);
   if (sp == sq) return false;
-  // The line pq meets the triangle's interior iff it turns the same way around all three edges.
-  const int s1 = orient_sos(points, p, q, a, b);
-  const int s2 = orient_sos(points, p, q, b, c);
-  if (s1 != s2) return false;
-  return orient_sos(points, p, q, c, a) == s1;
+  return line_through_triangle(points, p, q, a, b, c);
 }
 
 Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c) {
@@ -220,7 +241,8 @@ namespace {
 // The broad phase, one tested triangle at a time: `visit(t, u)` for every candidate pair (t, u)
 // whose closed boxes overlap and that share at most one vertex, each pair once, t a triangle of a
 // tested (not skipped) mesh. Triangles are visited in blocks in parallel; `visit` receives the
-// block index so results can be kept per block and joined in order (deterministic).
+// block index so results can be kept per block and joined in order (deterministic), and the sides
+// `prune` (surely_apart) found exactly.
 template <class Visit>
 void for_each_candidate(const SceneTopology& topo, const DetectSettings& settings,
                         std::size_t block_size, bool prune, const Visit& visit) {
@@ -230,14 +252,18 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
   const bool skipping = !settings.skip_among.empty();
   auto skipped = [&](std::size_t m) { return skipping && settings.skip_among[m]; };
   std::vector<std::unique_ptr<TriangleBvh>> per_mesh(meshes);
+  // A mesh whose own pairs are not tested needs only the triangles that can meet another mesh:
+  // culled first by a linear pass (cull_triangles), so that its hierarchy is built over those.
+  std::vector<bool> cull(meshes);
+  for (std::size_t m = 0; m < meshes; ++m)
+    cull[m] = (!settings.self_pairs || skipped(m)) && !(skipped(m) && settings.skipped_bvh != nullptr);
+  const std::vector<std::vector<std::uint32_t>> kept = cull_triangles(topo, cull);
   // One hierarchy per mesh, built in parallel (each into its own slot: the same trees for every
   // thread count).
   run_parallel(settings.threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t m = begin; m < end; ++m) {
       if (skipped(m) && settings.skipped_bvh != nullptr) continue;
-      std::vector<bool> only(meshes, false);
-      only[m] = true;
-      per_mesh[m] = std::make_unique<TriangleBvh>(topo, only);
+      per_mesh[m] = std::make_unique<TriangleBvh>(topo, kept[m]);
     }
   });
   std::vector<std::array<std::uint32_t, 2>> pairs;
@@ -268,8 +294,9 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
       for (std::size_t i = block * block_size; i < last; ++i) {
         const std::uint32_t t = pairs[i][0], u = pairs[i][1];
         if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
-        if (prune && surely_apart(topo, t, u)) continue;
-        visit(block, t, u);
+        PairSides sides;
+        if (prune && surely_apart(topo, t, u, sides)) continue;
+        visit(block, t, u, sides);
       }
     }
   });
@@ -281,7 +308,9 @@ struct BlockSink {
   std::vector<std::vector<T>>& found;
   Body body;
   void start(std::size_t blocks) const { found.assign(blocks, {}); }
-  void operator()(std::size_t block, std::uint32_t t, std::uint32_t u) const { body(found[block], t, u); }
+  void operator()(std::size_t block, std::uint32_t t, std::uint32_t u, const PairSides& sides) const {
+    body(found[block], t, u, sides);
+  }
 };
 template <class T, class Body>
 BlockSink<T, Body> sink(std::vector<std::vector<T>>& found, Body body) {
@@ -296,7 +325,9 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
                                                           const DetectSettings& settings) {
   std::vector<std::vector<std::array<std::uint32_t, 2>>> found;
   for_each_candidate(topo, settings, kBlock, false,
-                     sink(found, [](auto& out, std::uint32_t t, std::uint32_t u) { out.push_back({t, u}); }));
+                     sink(found, [](auto& out, std::uint32_t t, std::uint32_t u, const PairSides&) {
+                       out.push_back({t, u});
+                     }));
   std::vector<std::array<std::uint32_t, 2>> pairs;
   for (auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
   std::sort(pairs.begin(), pairs.end());
@@ -306,9 +337,9 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
 CrossingSet detect_crossings(const SceneTopology& topo, const DetectSettings& settings) {
   std::vector<std::vector<RawCrossing>> found;
   for_each_candidate(topo, settings, kBlock, true,
-                     sink(found, [&topo](auto& out, std::uint32_t t, std::uint32_t u) {
-                       test_owned_edges(topo, t, u, out);
-                       test_owned_edges(topo, u, t, out);
+                     sink(found, [&topo](auto& out, std::uint32_t t, std::uint32_t u, const PairSides& sides) {
+                       test_owned_edges(topo, t, u, sides.of_t, out);
+                       test_owned_edges(topo, u, t, sides.of_u, out);
                      }));
   CrossingSet set;
   for (auto& block : found) set.items.insert(set.items.end(), block.begin(), block.end());
@@ -397,9 +428,10 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
           // A pair of two retested triangles is tested once, from the lower one.
           if (u == t || (affected[u] && u < t)) continue;
           if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
-          if (surely_apart(topo, t, u)) continue;
-          test_owned_edges(topo, t, u, found[block]);
-          test_owned_edges(topo, u, t, found[block]);
+          PairSides sides;
+          if (surely_apart(topo, t, u, sides)) continue;
+          test_owned_edges(topo, t, u, sides.of_t, found[block]);
+          test_owned_edges(topo, u, t, sides.of_u, found[block]);
         }
       }
     }

@@ -146,6 +146,7 @@ int orient_sos(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t b
   const Vec3& pb = points[b];
   const Vec3& pc = points[c];
   const Vec3& pd = points[d];
+  if (const int sure = orient_filtered(pa, pb, pc, pd)) return sure;
   const CGAL::Orientation o =
       CGAL::orientation(Kernel::Point_3(pa[0], pa[1], pa[2]), Kernel::Point_3(pb[0], pb[1], pb[2]),
                         Kernel::Point_3(pc[0], pc[1], pc[2]), Kernel::Point_3(pd[0], pd[1], pd[2]));

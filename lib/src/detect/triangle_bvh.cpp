@@ -54,20 +54,26 @@ TriangleBvh::TriangleBvh(const SceneTopology& topo, const std::vector<bool>& inc
   for (std::size_t m = 0; m < meshes; ++m)
     if (include[m]) included += topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m];
   std::vector<std::uint32_t> tris;
-  std::vector<Box3> boxes;
   tris.reserve(included);
-  boxes.reserve(included);
-  Box3 all;
   for (std::size_t m = 0; m < meshes; ++m) {
     if (!include[m]) continue;
-    for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) {
-      const Box3 box = triangle_box(topo, t);
-      all = tris.empty() ? box : merged(all, box);
-      tris.push_back(t);
-      boxes.push_back(box);
-    }
+    for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) tris.push_back(t);
   }
+  build_over(topo, tris);
+}
+
+TriangleBvh::TriangleBvh(const SceneTopology& topo, const std::vector<std::uint32_t>& triangles) {
+  build_over(topo, triangles);
+}
+
+void TriangleBvh::build_over(const SceneTopology& topo, const std::vector<std::uint32_t>& tris) {
   if (tris.empty()) return;
+  std::vector<Box3> boxes(tris.size());
+  Box3 all = boxes[0] = triangle_box(topo, tris[0]);
+  for (std::size_t i = 1; i < tris.size(); ++i) {
+    boxes[i] = triangle_box(topo, tris[i]);
+    all = merged(all, boxes[i]);
+  }
   // Order the triangles along a Morton curve of their box centres (ties by id): neighbours in the
   // order are neighbours in space, so halving ranges builds a sound hierarchy with a single sort.
   std::vector<std::uint32_t> code(tris.size()), order(tris.size());

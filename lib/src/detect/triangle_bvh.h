@@ -35,6 +35,8 @@ class TriangleBvh {
  public:
   // Over the triangles whose mesh is flagged in `include`.
   TriangleBvh(const SceneTopology& topology, const std::vector<bool>& include);
+  // Over the listed triangles (ascending ids).
+  TriangleBvh(const SceneTopology& topology, const std::vector<std::uint32_t>& triangles);
 
   // Recomputes every box from the current positions, keeping the tree (vertices moved a little:
   // iterations of fix). Queries stay exact; only their speed depends on how far things moved.
@@ -49,7 +51,9 @@ class TriangleBvh {
   template <class F>
   void each_pair_with(const TriangleBvh& other, const F& f) const {
     if (nodes_.empty() || other.nodes_.empty()) return;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0u, 0u}};
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
+    stack.reserve(128);  // about the sum of the two depths
+    stack.push_back({0u, 0u});
     while (!stack.empty()) {
       const auto [i, j] = stack.back();
       stack.pop_back();
@@ -112,6 +116,7 @@ class TriangleBvh {
   static double volume(const Box3& b) {
     return (b.hi[0] - b.lo[0]) + (b.hi[1] - b.lo[1]) + (b.hi[2] - b.lo[2]);  // half perimeter
   }
+  void build_over(const SceneTopology& topology, const std::vector<std::uint32_t>& triangles);
   std::uint32_t build(std::uint32_t first, std::uint32_t count);
 
   std::vector<Node> nodes_;
