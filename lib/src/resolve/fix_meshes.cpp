@@ -658,15 +658,7 @@ class Solver {
 
     // Vertex normals (area weighted) at the set and its neighbours, from the triangles it touches
     // in ascending order.
-    std::vector<std::uint32_t> touching;
-    for (std::uint32_t v : vertices)
-      for (std::uint32_t k = topo_.vertex_edge_begin[v]; k < topo_.vertex_edge_begin[v + 1]; ++k) {
-        const std::uint32_t e = topo_.vertex_edges[k];
-        for (std::uint32_t i = topo_.edge_face_begin[e]; i < topo_.edge_face_begin[e + 1]; ++i)
-          touching.push_back(topo_.edge_faces[i]);
-      }
-    std::sort(touching.begin(), touching.end());
-    touching.erase(std::unique(touching.begin(), touching.end()), touching.end());
+    const std::vector<std::uint32_t> touching = topo_.triangles_at(vertices);
     std::vector<Vec3>& normal = normal_;
     for (std::uint32_t t : touching) {
       const auto& tri = topo_.tris[t];

@@ -43,23 +43,9 @@ void TrialMove::sync(const CrossingSet& set) {
   for (const RawCrossing& x : set.items) ++faces_[x.face];
 }
 
-std::vector<std::uint32_t> TrialMove::triangles_at(const std::vector<std::uint32_t>& vertices) {
-  const SceneTopology& topo = topology_;
-  std::vector<std::uint32_t> out;
-  for (std::uint32_t v : vertices)
-    for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-      const std::uint32_t e = topo.vertex_edges[i];
-      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k)
-        out.push_back(topo.edge_faces[k]);
-    }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
-}
-
 void TrialMove::commit(const std::vector<std::uint32_t>& vertices, const std::vector<Vec3>& at) {
   for (std::size_t i = 0; i < vertices.size(); ++i) points_[vertices[i]] = at[i];
-  for (std::uint32_t t : triangles_at(vertices))
+  for (std::uint32_t t : topology_.triangles_at(vertices))
     if (!committed_[t]) {
       committed_[t] = 1;
       committed_list_.push_back(t);
@@ -70,7 +56,7 @@ TrialCount TrialMove::count(const DetectSettings& settings, const SceneHierarchy
                             const CrossingSet& set, const std::vector<std::uint32_t>& vertices,
                             const std::vector<Vec3>& at, bool stop_above_before) {
   const SceneTopology& topo = topology_;
-  const std::vector<std::uint32_t> touched = triangles_at(vertices);
+  const std::vector<std::uint32_t> touched = topology_.triangles_at(vertices);
   for (std::uint32_t t : touched) affected_[t] = 1;
 
   TrialCount result;

@@ -40,7 +40,6 @@ class TrialMove {
   // more than `limit` are found.
   std::size_t crossings_of(const DetectSettings& settings, const SceneHierarchy& hierarchy,
                            const std::vector<std::uint32_t>& touched, std::size_t limit);
-  std::vector<std::uint32_t> triangles_at(const std::vector<std::uint32_t>& vertices);
 
   const SceneTopology& topology_;
   std::vector<Vec3> points_;             // positions at sync, with committed moves and a candidate

@@ -173,6 +173,18 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
   return topo;
 }
 
+std::vector<std::uint32_t> SceneTopology::triangles_at(const std::vector<std::uint32_t>& vertices) const {
+  std::vector<std::uint32_t> out;
+  for (std::uint32_t v : vertices)
+    for (std::uint32_t i = vertex_edge_begin[v]; i < vertex_edge_begin[v + 1]; ++i) {
+      const std::uint32_t e = vertex_edges[i];
+      for (std::uint32_t k = edge_face_begin[e]; k < edge_face_begin[e + 1]; ++k) out.push_back(edge_faces[k]);
+    }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 void update_points(const std::vector<Mesh>& meshes, SceneTopology& topology) {
   for (std::size_t v = 0; v < topology.points.size(); ++v) {
     topology.points[v] = meshes[topology.vertex_mesh[v]].positions[topology.representative[v]];

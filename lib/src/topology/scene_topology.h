@@ -54,6 +54,8 @@ struct SceneTopology {
   std::uint32_t edge_mesh(std::uint32_t e) const { return vertex_mesh[edges[e][0]]; }
   // Edge id of the welded vertex pair, or kNone.
   std::uint32_t find_edge(std::uint32_t a, std::uint32_t b) const;
+  // The triangles with a corner among `vertices` (welded ids), ascending, each once.
+  std::vector<std::uint32_t> triangles_at(const std::vector<std::uint32_t>& vertices) const;
 };
 
 SceneTopology build_topology(const std::vector<Mesh>& meshes);
