@@ -151,6 +151,7 @@ class Solver {
     measured_.assign(nv, 0);
     seen_.assign(nv, 0);
     normal_.assign(nv, Vec3{0, 0, 0});
+    trial_ = std::make_unique<TrialMove>(topo_);
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, settings_.skip_among);
     settings_.skipped_bvh = obstacle_bvh_.get();
   }
@@ -212,7 +213,6 @@ class Solver {
       if (iteration >= options_.max_iterations) break;
       before_step = topo_.points;
       hierarchy_ = hierarchy.get();
-      if (!trial_) trial_ = std::make_unique<TrialMove>(topo_);
       trial_->sync(set);
       wide_tried_ = false;
       for (std::uint32_t v : measured_list_) measured_[v] = 0;
@@ -846,122 +846,122 @@ class Solver {
     // the same sheet, so it is only tried when the narrow one offers nothing that helps.
     std::unique_ptr<MeshTree> patches[2][2];
     auto collect = [&](int wide) {
-    for (int k = 0; k < 2; ++k) {
-      const std::uint32_t own = components[k], other = components[1 - k];
-      const std::uint32_t mesh = topo_.component_mesh[own];
-      if (meshes_[mesh].role != Role::kMovable) continue;
-      const std::vector<std::uint32_t> seeds = corners_of(k);
-      std::set<std::pair<std::uint32_t, std::uint32_t>> rim;  // a self patch's edges of one face
-      std::vector<std::uint8_t> in_patch;
-      const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
-      if (self) {
-        // The patch never reaches this side's corners, nor vertices nearer (in rings) to them than
-        // to the other track's corners: on a sheet folded at a loop vertex the two sides are joined, and
-        // the patch must not grow over the fold into the flap it is to judge.
-        const std::vector<std::uint32_t> others = corners_of(1 - k);
-        // The wide patch: every vertex nearer to the other track's corners than to this side's.
-        const int rings = wide ? static_cast<int>(component_size_[own]) : kPatchRings;
-        const std::vector<int> near_own = ring_distance(mesh, seeds, rings + 1);
-        const std::vector<int> near_other = ring_distance(mesh, others, rings + 1);
-        std::vector<std::uint8_t> own_side(near_own.size(), 0);
-        for (std::size_t i = 0; i < own_side.size(); ++i)
-          own_side[i] = near_own[i] == 0 || (near_own[i] < near_other[i] && near_own[i] <= rings + 1) ? 1 : 0;
-        const std::vector<std::uint32_t> tris = local_sheet(mesh, others, own_side, rings, in_patch);
-        std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
-        for (std::uint32_t f : tris) {
-          const auto& tri = topo_.tris[f];
-          for (int e = 0; e < 3; ++e)
-            ++uses[{std::min(tri[e], tri[(e + 1) % 3]), std::max(tri[e], tri[(e + 1) % 3])}];
+      for (int k = 0; k < 2; ++k) {
+        const std::uint32_t own = components[k], other = components[1 - k];
+        const std::uint32_t mesh = topo_.component_mesh[own];
+        if (meshes_[mesh].role != Role::kMovable) continue;
+        const std::vector<std::uint32_t> seeds = corners_of(k);
+        std::set<std::pair<std::uint32_t, std::uint32_t>> rim;  // a self patch's edges of one face
+        std::vector<std::uint8_t> in_patch;
+        const std::uint32_t base = topo_.mesh_vertex_begin[mesh];
+        if (self) {
+          // The patch never reaches this side's corners, nor vertices nearer (in rings) to them than
+          // to the other track's corners: on a sheet folded at a loop vertex the two sides are joined, and
+          // the patch must not grow over the fold into the flap it is to judge.
+          const std::vector<std::uint32_t> others = corners_of(1 - k);
+          // The wide patch: every vertex nearer to the other track's corners than to this side's.
+          const int rings = wide ? static_cast<int>(component_size_[own]) : kPatchRings;
+          const std::vector<int> near_own = ring_distance(mesh, seeds, rings + 1);
+          const std::vector<int> near_other = ring_distance(mesh, others, rings + 1);
+          std::vector<std::uint8_t> own_side(near_own.size(), 0);
+          for (std::size_t i = 0; i < own_side.size(); ++i)
+            own_side[i] = near_own[i] == 0 || (near_own[i] < near_other[i] && near_own[i] <= rings + 1) ? 1 : 0;
+          const std::vector<std::uint32_t> tris = local_sheet(mesh, others, own_side, rings, in_patch);
+          std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+          for (std::uint32_t f : tris) {
+            const auto& tri = topo_.tris[f];
+            for (int e = 0; e < 3; ++e)
+              ++uses[{std::min(tri[e], tri[(e + 1) % 3]), std::max(tri[e], tri[(e + 1) % 3])}];
+          }
+          if (tris.empty()) continue;
+          for (const auto& [edge, count] : uses)
+            if (count == 1) rim.insert(edge);
+          patches[wide][k] = build_tree(topo_, tris);
         }
-        if (tris.empty()) continue;
-        for (const auto& [edge, count] : uses)
-          if (count == 1) rim.insert(edge);
-        patches[wide][k] = build_tree(topo_, tris);
-      }
-      const MeshTree& tree = self ? *patches[wide][k] : component_tree(other, trees);
-      if (tree.triangles.empty()) continue;
-      auto beyond_edge = [&](std::uint32_t a, std::uint32_t b) {
-        if (self) return rim.count({std::min(a, b), std::max(a, b)}) > 0;
-        return topo_.is_boundary(topo_.find_edge(a, b));
-      };
-      // Side of the other surface (+1, -1) where the vertex is over it, 0 where its closest point
-      // lies on the other surface's boundary (beyond it).
-      std::map<std::uint32_t, int> side;
-      auto side_of = [&](std::uint32_t v) {
-        const auto it = side.find(v);
-        if (it != side.end()) return it->second;
-        if (self && in_patch[v - base]) {
-          side.emplace(v, 0);
-          return 0;
-        }
-        const Vec3& p = topo_.points[v];
-        const auto hit = tree.tree.closest_point_and_primitive(Kernel::Point_3(p[0], p[1], p[2]));
-        const std::uint32_t face =
-            tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
-        const auto& f = topo_.tris[face];
-        const Vec3 q{hit.first.x(), hit.first.y(), hit.first.z()};
-        // A corner of the closest face lies on the other surface (a fold vertex shared by both
-        // sides of a sheet).
-        int result = f[0] == v || f[1] == v || f[2] == v ? 0 : orient_sos(topo_.points, f[0], f[1], f[2], v);
-        for (int e = 0; e < 3 && result != 0; ++e) {
-          // Closest point on edge (f[e], f[e+1]) of the other surface's boundary: not over it.
-          const Vec3& a = topo_.points[f[e]];
-          const Vec3& b = topo_.points[f[(e + 1) % 3]];
-          const Vec3 ab = sub(b, a);
-          const double len2 = dot(ab, ab);
-          if (len2 == 0.0) continue;
-          const double along = std::clamp(dot(sub(q, a), ab) / len2, 0.0, 1.0);
-          const double off = norm(sub(q, add(a, scale(ab, along))));
-          if (off <= 1e-9 * std::sqrt(len2) && beyond_edge(f[e], f[(e + 1) % 3])) result = 0;
-        }
-        side.emplace(v, result);
-        return result;
-      };
-      // A flap is small next to its component: one that grows past a quarter of it is a side of
-      // the surface, not a flap. Next to a loop vertex only measured moves are made, so a flap
-      // too large to be measured is not grown further.
-      const std::size_t component_size = component_size_[own];
-      std::size_t limit = std::max<std::size_t>(16, component_size / 4);
-      if (c.loop_vertices > 0) limit = std::min(limit, kMeasuredVertices);
-      for (int wanted : {1, -1}) {
-        std::vector<std::uint32_t> flap;
-        std::map<std::uint32_t, bool> seen;
-        for (std::uint32_t v : seeds) {
-          if (side_of(v) != wanted || seen.count(v)) continue;
-          seen[v] = true;
-          flap.push_back(v);
-        }
-        bool too_large = false;
-        for (std::size_t i = 0; i < flap.size() && !too_large; ++i) {
-          const std::uint32_t v = flap[i];
-          for (std::uint32_t e = topo_.vertex_edge_begin[v]; e < topo_.vertex_edge_begin[v + 1]; ++e) {
-            const auto& edge = topo_.edges[topo_.vertex_edges[e]];
-            const std::uint32_t w = edge[0] == v ? edge[1] : edge[0];
-            if (seen.count(w)) continue;
-            seen[w] = true;
-            if (std::find(t.loop_vertex_ids.begin(), t.loop_vertex_ids.end(), w) !=
-                t.loop_vertex_ids.end())
-              continue;
-            if (side_of(w) != wanted) continue;
-            flap.push_back(w);
-            if (flap.size() > limit) {
-              too_large = true;
-              break;
+        const MeshTree& tree = self ? *patches[wide][k] : component_tree(other, trees);
+        if (tree.triangles.empty()) continue;
+        auto beyond_edge = [&](std::uint32_t a, std::uint32_t b) {
+          if (self) return rim.count({std::min(a, b), std::max(a, b)}) > 0;
+          return topo_.is_boundary(topo_.find_edge(a, b));
+        };
+        // Side of the other surface (+1, -1) where the vertex is over it, 0 where its closest point
+        // lies on the other surface's boundary (beyond it).
+        std::map<std::uint32_t, int> side;
+        auto side_of = [&](std::uint32_t v) {
+          const auto it = side.find(v);
+          if (it != side.end()) return it->second;
+          if (self && in_patch[v - base]) {
+            side.emplace(v, 0);
+            return 0;
+          }
+          const Vec3& p = topo_.points[v];
+          const auto hit = tree.tree.closest_point_and_primitive(Kernel::Point_3(p[0], p[1], p[2]));
+          const std::uint32_t face =
+              tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
+          const auto& f = topo_.tris[face];
+          const Vec3 q{hit.first.x(), hit.first.y(), hit.first.z()};
+          // A corner of the closest face lies on the other surface (a fold vertex shared by both
+          // sides of a sheet).
+          int result = f[0] == v || f[1] == v || f[2] == v ? 0 : orient_sos(topo_.points, f[0], f[1], f[2], v);
+          for (int e = 0; e < 3 && result != 0; ++e) {
+            // Closest point on edge (f[e], f[e+1]) of the other surface's boundary: not over it.
+            const Vec3& a = topo_.points[f[e]];
+            const Vec3& b = topo_.points[f[(e + 1) % 3]];
+            const Vec3 ab = sub(b, a);
+            const double len2 = dot(ab, ab);
+            if (len2 == 0.0) continue;
+            const double along = std::clamp(dot(sub(q, a), ab) / len2, 0.0, 1.0);
+            const double off = norm(sub(q, add(a, scale(ab, along))));
+            if (off <= 1e-9 * std::sqrt(len2) && beyond_edge(f[e], f[(e + 1) % 3])) result = 0;
+          }
+          side.emplace(v, result);
+          return result;
+        };
+        // A flap is small next to its component: one that grows past a quarter of it is a side of
+        // the surface, not a flap. Next to a loop vertex only measured moves are made, so a flap
+        // too large to be measured is not grown further.
+        const std::size_t component_size = component_size_[own];
+        std::size_t limit = std::max<std::size_t>(16, component_size / 4);
+        if (c.loop_vertices > 0) limit = std::min(limit, kMeasuredVertices);
+        for (int wanted : {1, -1}) {
+          std::vector<std::uint32_t> flap;
+          std::map<std::uint32_t, bool> seen;
+          for (std::uint32_t v : seeds) {
+            if (side_of(v) != wanted || seen.count(v)) continue;
+            seen[v] = true;
+            flap.push_back(v);
+          }
+          bool too_large = false;
+          for (std::size_t i = 0; i < flap.size() && !too_large; ++i) {
+            const std::uint32_t v = flap[i];
+            for (std::uint32_t e = topo_.vertex_edge_begin[v]; e < topo_.vertex_edge_begin[v + 1]; ++e) {
+              const auto& edge = topo_.edges[topo_.vertex_edges[e]];
+              const std::uint32_t w = edge[0] == v ? edge[1] : edge[0];
+              if (seen.count(w)) continue;
+              seen[w] = true;
+              if (std::find(t.loop_vertex_ids.begin(), t.loop_vertex_ids.end(), w) !=
+                  t.loop_vertex_ids.end())
+                continue;
+              if (side_of(w) != wanted) continue;
+              flap.push_back(w);
+              if (flap.size() > limit) {
+                too_large = true;
+                break;
+              }
             }
           }
+          if (too_large || flap.empty()) continue;
+          bool any_free = false;
+          double area = 0.0;
+          for (std::uint32_t v : flap) {
+            any_free = any_free || free_[v];
+            area += vertex_edge_[v] * vertex_edge_[v];
+          }
+          if (!any_free) continue;
+          std::sort(flap.begin(), flap.end());
+          flaps.push_back({area, k, wide == 1, std::move(flap), &tree});
         }
-        if (too_large || flap.empty()) continue;
-        bool any_free = false;
-        double area = 0.0;
-        for (std::uint32_t v : flap) {
-          any_free = any_free || free_[v];
-          area += vertex_edge_[v] * vertex_edge_[v];
-        }
-        if (!any_free) continue;
-        std::sort(flap.begin(), flap.end());
-        flaps.push_back({area, k, wide == 1, std::move(flap), &tree});
       }
-    }
     };
     auto candidates_of = [&](bool wide) {
       std::vector<Candidate> out;
