@@ -150,7 +150,6 @@ class Solver {
     member_.assign(nv, 0);
     measured_.assign(nv, 0);
     seen_.assign(nv, 0);
-    edge_cut_.assign(topo_.edges.size(), 0);
     normal_.assign(nv, Vec3{0, 0, 0});
     trial_ = std::make_unique<TrialMove>(topo_);
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, settings_.skip_among);
@@ -493,73 +492,6 @@ class Solver {
     return out;
   }
 
-  // The pieces of a component that track k of a self contour cuts off on its own (its crossing
-  // edges cut, loop vertices barriers): every piece reached from an endpoint of a crossing edge
-  // that has at most `limit` vertices, ascending. Each track gets its own region analysis here:
-  // where several contours cross on one component, the labels of all cuts together split a flap
-  // into slivers between the other contours' cuts. The flood stops at `limit` vertices (or where
-  // an earlier large flood went), so the cost follows the pieces, not the mesh.
-  std::vector<std::vector<std::uint32_t>> track_pieces(const CrossingSet& set, const TracedContour& t,
-                                                       int k, std::size_t limit) {
-    const Contour& c = t.contour;
-    std::vector<std::uint32_t> cut;
-    for (std::size_t i = 0; i < c.crossings.size(); ++i)
-      if (t.edge_track[i] == k) cut.push_back(set.items[c.crossings[i]].edge);
-    std::sort(cut.begin(), cut.end());
-    std::vector<std::uint32_t> odd;  // crossed an odd number of times
-    for (std::size_t i = 0; i < cut.size();) {
-      std::size_t j = i;
-      while (j < cut.size() && cut[j] == cut[i]) ++j;
-      if ((j - i) % 2 == 1) odd.push_back(cut[i]);
-      i = j;
-    }
-    for (std::uint32_t e : odd) edge_cut_[e] = 1;
-    for (std::uint32_t v : t.loop_vertex_ids) seen_[v] = 2;  // barriers
-    // seen_: 1 in a piece found here, 2 a barrier or in a flood that grew past `limit`.
-    std::vector<std::uint32_t> touched(t.loop_vertex_ids.begin(), t.loop_vertex_ids.end());
-    std::vector<std::vector<std::uint32_t>> pieces;
-    for (std::uint32_t e : odd) {
-      for (std::uint32_t seed : topo_.edges[e]) {
-        if (seen_[seed] != 0) continue;
-        std::vector<std::uint32_t> piece{seed};
-        seen_[seed] = 1;
-        bool large = false;
-        for (std::size_t i = 0; i < piece.size() && !large; ++i) {
-          const std::uint32_t v = piece[i];
-          for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
-            const std::uint32_t edge = topo_.vertex_edges[j];
-            if (edge_cut_[edge]) continue;
-            const auto& ed = topo_.edges[edge];
-            const std::uint32_t w = ed[0] == v ? ed[1] : ed[0];
-            if (seen_[w] == 1) continue;
-            if (seen_[w] == 2 && std::find(t.loop_vertex_ids.begin(), t.loop_vertex_ids.end(), w) ==
-                                     t.loop_vertex_ids.end()) {
-              large = true;  // joins a flood that grew past the limit
-              break;
-            }
-            if (seen_[w] == 2) continue;
-            seen_[w] = 1;
-            piece.push_back(w);
-            if (piece.size() > limit) {
-              large = true;
-              break;
-            }
-          }
-        }
-        touched.insert(touched.end(), piece.begin(), piece.end());
-        if (large) {
-          for (std::uint32_t v : piece) seen_[v] = 2;
-          continue;
-        }
-        std::sort(piece.begin(), piece.end());
-        pieces.push_back(std::move(piece));
-      }
-    }
-    for (std::uint32_t e : odd) edge_cut_[e] = 0;
-    for (std::uint32_t v : touched) seen_[v] = 0;
-    return pieces;
-  }
-
   // Vertices of `mesh` (indexed v - the mesh's first vertex) on this side of a self contour for
   // the wide patch: this side's corners `own` and every vertex nearer (in rings) to them than to
   // the other track's corners `others`, counted up to `rings`.
@@ -574,17 +506,14 @@ class Solver {
   }
 
   // A contour of a component with itself (a fold through the cloth, a hem's inner layer pushed
-  // through its outer layer). The sides that may move, each across the sheet of the other track:
-  //  - next to each track, the illegal side by the component's labels (all its contours' cuts);
-  //  - the pieces each track cuts off on its own (track_pieces), up to the measured size.
-  // Every side is measured (TrialMove) against the narrow sheet (the other track's faces at the
+  // through its outer layer): the illegal side next to each track, by the component's labels,
+  // may move across the sheet of the other track. Every side is measured (TrialMove) against the narrow sheet (the other track's faces at the
   // crossings grown by two rings, the side's own vertices left out) and, when that leaves crossings
   // of this contour, once per step against the wide one (every vertex nearer to the other track
   // than to this side): a side reaching beyond the narrow sheet (a flap of a finely subdivided
   // sheet diving far through its base) finds its closest points on the sheet's rim and would
   // collapse onto it. The move that removes most is made. When none helps, the per-crossing rule
-  // acts; when nothing could be measured (the step's budget is spent), the smaller labelled side
-  // moves.
+  // acts; when nothing could be measured (the step's budget is spent), the smaller side moves.
   void self_contour_move(const CrossingSet& set, const TracedContour& traced,
                          const RegionAnalysis& analysis, std::vector<std::uint8_t>& in_moving_set,
                          Moves& moves) {
@@ -600,44 +529,41 @@ class Solver {
       int track;
       std::vector<std::uint32_t> vertices;  // ascending
       double area = 0.0;
-      bool labelled;
       std::unique_ptr<MeshTree> narrow, wide;
     };
     std::vector<Side> sides;
-    auto labels = analysis.labels.find({component, component});
-    if (labels != analysis.labels.end()) {
-      const std::vector<std::int8_t>& illegal = labels->second;
-      std::vector<std::uint8_t> seen(end - base, 0);
-      for (int k = 0; k < 2; ++k) {
-        std::vector<std::uint32_t> side;
-        for (std::size_t i = 0; i < c.crossings.size(); ++i) {
-          if (traced.edge_track[i] != k) continue;
-          for (std::uint32_t v : topo_.edges[set.items[c.crossings[i]].edge]) {
-            if (illegal[v - base] != 1 || seen[v - base]) continue;
-            seen[v - base] = 1;
-            side.push_back(v);
-          }
+    const auto labels = analysis.labels.find({component, component});
+    if (labels == analysis.labels.end()) return;
+    const std::vector<std::int8_t>& illegal = labels->second;
+    std::vector<std::uint8_t> seen(end - base, 0);
+    for (int k = 0; k < 2; ++k) {
+      std::vector<std::uint32_t> side;
+      for (std::size_t i = 0; i < c.crossings.size(); ++i) {
+        if (traced.edge_track[i] != k) continue;
+        for (std::uint32_t v : topo_.edges[set.items[c.crossings[i]].edge]) {
+          if (illegal[v - base] != 1 || seen[v - base]) continue;
+          seen[v - base] = 1;
+          side.push_back(v);
         }
-        for (std::size_t i = 0; i < side.size(); ++i) {
-          const std::uint32_t v = side[i];
-          for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
-            const auto& e = topo_.edges[topo_.vertex_edges[j]];
-            const std::uint32_t w = e[0] == v ? e[1] : e[0];
-            if (illegal[w - base] == 1 && !seen[w - base]) {
-              seen[w - base] = 1;
-              side.push_back(w);
-            }
-          }
-        }
-        if (side.empty()) continue;
-        std::sort(side.begin(), side.end());
-        sides.push_back({k, std::move(side), 0.0, true, nullptr, nullptr});
       }
+      for (std::size_t i = 0; i < side.size(); ++i) {
+        const std::uint32_t v = side[i];
+        for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+          const auto& e = topo_.edges[topo_.vertex_edges[j]];
+          const std::uint32_t w = e[0] == v ? e[1] : e[0];
+          if (illegal[w - base] == 1 && !seen[w - base]) {
+            seen[w - base] = 1;
+            side.push_back(w);
+          }
+        }
+      }
+      if (side.empty()) continue;
+      std::sort(side.begin(), side.end());
+      double area = 0.0;
+      for (std::uint32_t v : side) area += vertex_edge_[v] * vertex_edge_[v];
+      sides.push_back({k, std::move(side), area, nullptr, nullptr});
     }
-    auto area_of = [&](Side& side) {
-      for (std::uint32_t v : side.vertices) side.area += vertex_edge_[v] * vertex_edge_[v];
-    };
-    for (Side& side : sides) area_of(side);
+    if (sides.empty()) return;
 
     // The other track's sheet for a side of track k: the faces its crossing edges pass through and
     // the other track's crossing edges, grown by `rings`, never into the moving side nor into
@@ -657,10 +583,9 @@ class Solver {
       std::vector<std::uint8_t> in_sheet;
       return build_tree(topo_, local_sheet(mesh, seeds, excluded, rings, in_sheet));
     };
-    auto candidates_of = [&](bool wide, std::size_t from) {
+    auto candidates_of = [&](bool wide) {
       std::vector<Candidate> out;
-      for (std::size_t i = from; i < sides.size(); ++i) {
-        const Side& side = sides[i];
+      for (const Side& side : sides) {
         const MeshTree* tree = wide ? side.wide.get() : side.narrow.get();
         if (tree == nullptr) continue;
         std::vector<std::uint32_t> still;
@@ -677,24 +602,8 @@ class Solver {
     };
     const long long all = static_cast<long long>(c.crossings.size());
     for (Side& side : sides) side.narrow = sheet(side, 2, nullptr);
-    const std::vector<Candidate> candidates = candidates_of(false, 0);
+    const std::vector<Candidate> candidates = candidates_of(false);
     Choice chosen = measured_choice(set, candidates);
-    if (chosen.gain < all && c.loop_vertices == 0) {
-      const std::size_t labelled = sides.size();
-      const std::size_t limit = std::min(kMeasuredVertices, component_size_[component] / 2);
-      for (int k = 0; k < 2; ++k)
-        for (std::vector<std::uint32_t>& piece : track_pieces(set, traced, k, limit)) {
-          const bool known = std::any_of(sides.begin(), sides.end(), [&](const Side& s) {
-            return s.track == k && s.vertices == piece;
-          });
-          if (known) continue;
-          sides.push_back({k, std::move(piece), 0.0, false, nullptr, nullptr});
-          area_of(sides.back());
-          sides.back().narrow = sheet(sides.back(), 2, nullptr);
-        }
-      take_better(chosen, measured_choice(set, candidates_of(false, labelled)));
-    }
-    if (sides.empty()) return;
     if (chosen.gain < all && !wide_tried_) {
       wide_tried_ = true;
       const int rings = static_cast<int>(component_size_[component]);
@@ -702,7 +611,7 @@ class Solver {
       for (int k = 0; k < 2; ++k)
         own_side[k] = own_side_of(mesh, track_corners(set, traced, k), track_corners(set, traced, 1 - k), rings);
       for (Side& side : sides) side.wide = sheet(side, rings, &own_side[side.track]);
-      take_better(chosen, measured_choice(set, candidates_of(true, 0)));
+      take_better(chosen, measured_choice(set, candidates_of(true)));
     }
     if (chosen.gain > 0) {
       make_measured_move(chosen, in_moving_set, moves);
@@ -711,7 +620,7 @@ class Solver {
     if (!chosen.part.empty()) return;  // measured, and no side helps: the per-crossing rule acts
     const Side* smaller = nullptr;
     for (const Side& side : sides)
-      if (side.labelled && (smaller == nullptr || side.area < smaller->area)) smaller = &side;
+      if (smaller == nullptr || side.area < smaller->area) smaller = &side;
     if (smaller == nullptr) return;
     for (const Candidate& candidate : candidates) {
       if (candidate.tree != smaller->narrow.get()) continue;
@@ -1392,7 +1301,6 @@ class Solver {
   std::size_t trial_budget_ = 0;  // triangles measured moves may still touch in this step
   bool wide_tried_ = false;       // a wide patch was built in this step
   std::vector<std::uint8_t> member_, seen_;  // part_moves' scratch, per welded vertex, all zero
-  std::vector<std::uint8_t> edge_cut_;       // track_pieces' scratch, per edge, all zero
   std::vector<std::uint8_t> measured_;       // per welded vertex: taken by a measured move this step
   std::vector<std::uint32_t> measured_list_;
   std::vector<Vec3> normal_;                 // between calls
