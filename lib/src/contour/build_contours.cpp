@@ -175,25 +175,87 @@ std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
 
 namespace {
 
-// Per-thread flags of a separation test, all zero between tests (sized on first use).
+// Per-thread flags of a separation test, all zero between tests (sized on first use), and lists
+// kept for their capacity.
 struct SeparationScratch {
   std::vector<std::uint8_t> cut;      // per edge
   std::vector<std::uint8_t> side_of;  // per welded vertex: 0, or 1 + the side that reached it
   std::vector<std::uint8_t> seen;     // per triangle
   std::vector<std::uint32_t> triangles;
+  std::vector<std::uint32_t> edges;      // the track's crossed edges
+  std::vector<std::uint32_t> queue[2];  // the vertices each side reached, in order (sized once)
+  std::size_t reached[2] = {0, 0};      // how many of queue[s] are set
 };
+
+// Grows the two sides of a cut edge in lock step, one vertex of each in turn, never crossing a
+// cut edge. Returns the side (0 or 1) that runs out first, or -1 when the fronts meet. Each side's
+// vertices are the first scratch.reached[side] of scratch.queue[side], marked 1 + side in
+// scratch.side_of. The neighbours of a vertex
+// are taken without data-dependent branches (whether one is new or cut is not predictable): each
+// is written at the end of the queue, which grows by one only when the neighbour is new.
+int grow_sides(const SceneTopology& topo, std::uint32_t seed0, std::uint32_t seed1,
+               SeparationScratch& scratch) {
+  const std::uint32_t* edge_begin = topo.vertex_edge_begin.data();
+  const std::uint32_t* vertex_edges = topo.vertex_edges.data();
+  const std::array<std::uint32_t, 2>* edges = topo.edges.data();
+  const std::uint8_t* cut = scratch.cut.data();
+  std::uint8_t* side_of = scratch.side_of.data();
+  std::uint32_t* queue[2];
+  std::size_t head[2] = {0, 0}, size[2] = {1, 1};
+  for (int s = 0; s < 2; ++s) {
+    // A side never holds more vertices than the mesh, plus the slot written past its end.
+    if (scratch.queue[s].size() < topo.points.size() + 1) scratch.queue[s].resize(topo.points.size() + 1);
+    queue[s] = scratch.queue[s].data();
+  }
+  queue[0][0] = seed0;
+  queue[1][0] = seed1;
+  side_of[seed0] = 1;
+  side_of[seed1] = 2;
+  int finished = -1;
+  bool met = false;
+  while (!met) {
+    for (int s = 0; s < 2 && !met; ++s) {
+      if (head[s] == size[s]) {
+        finished = s;
+        break;
+      }
+      const std::uint32_t v = queue[s][head[s]++];
+      const auto mark = static_cast<std::uint8_t>(s + 1);
+      std::uint32_t* q = queue[s];
+      std::size_t n = size[s];
+      unsigned other = 0;
+      for (std::uint32_t i = edge_begin[v]; i < edge_begin[v + 1]; ++i) {
+        const std::uint32_t e = vertex_edges[i];
+        const std::uint32_t w = edges[e][0] ^ edges[e][1] ^ v;
+        const unsigned open = cut[e] ^ 1u;
+        const std::uint8_t was = side_of[w];
+        const unsigned fresh = open & static_cast<unsigned>(was == 0);
+        other |= open & static_cast<unsigned>(was != 0 && was != mark);
+        q[n] = w;
+        n += fresh;
+        side_of[w] = fresh ? mark : was;
+      }
+      size[s] = n;
+      met = other != 0;
+    }
+    if (finished >= 0) break;
+  }
+  for (int s = 0; s < 2; ++s) scratch.reached[s] = size[s];
+  return met ? -1 : finished;
+}
 
 // The area of a side: a third of each triangle per corner in the side (`mark` in side_of). The
 // triangles around the side's vertices are listed once each, then weighted; written without
 // data-dependent branches (which side a corner lies on is not predictable), so this costs little
 // more than reading the fans.
-double side_area(const SceneTopology& topo, const std::vector<std::uint32_t>& side, std::uint8_t mark,
-                 SeparationScratch& scratch) {
+double side_area(const SceneTopology& topo, const std::uint32_t* side, std::size_t side_count,
+                 std::uint8_t mark, SeparationScratch& scratch) {
   std::vector<std::uint8_t>& seen = scratch.seen;
   std::vector<std::uint32_t>& list = scratch.triangles;
   if (seen.empty()) seen.assign(topo.tris.size(), 0);
   std::size_t count = 0;
-  for (std::uint32_t v : side) {
+  for (std::size_t s = 0; s < side_count; ++s) {
+    const std::uint32_t v = side[s];
     for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
       const std::uint32_t e = topo.vertex_edges[i];
       const std::uint32_t first = topo.edge_face_begin[e], last = topo.edge_face_begin[e + 1];
@@ -227,7 +289,8 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
   else if (track.boundary_ends == 1) track.type = TrackType::kBI;
   else track.type = TrackType::kII;
 
-  std::vector<std::uint32_t> edges;
+  std::vector<std::uint32_t>& edges = scratch.edges;
+  edges.clear();
   for (std::size_t i = 0; i < contour.crossings.size(); ++i)
     if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
   const std::vector<std::uint32_t> odd = odd_edges(edges);
@@ -237,53 +300,23 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
     track.separates = true;
     return;
   }
-  std::vector<std::uint8_t>& cut = scratch.cut;
-  std::vector<std::uint8_t>& side_of = scratch.side_of;
-  if (cut.empty()) {
-    cut.assign(topo.edges.size(), 0);
-    side_of.assign(topo.points.size(), 0);
+  if (scratch.cut.empty()) {
+    scratch.cut.assign(topo.edges.size(), 0);
+    scratch.side_of.assign(topo.points.size(), 0);
   }
-  for (std::uint32_t e : odd) cut[e] = 1;
-  // Grow the two sides of the first cut edge in lock step, never crossing a cut: if one side
-  // runs out first it is a separate region (the smaller side by vertex count); if the two
-  // fronts meet, the track separates nothing. Cost: the smaller side, not the mesh.
-  const std::uint32_t seeds[2] = {topo.edges[odd.front()][0], topo.edges[odd.front()][1]};
-  std::vector<std::uint32_t> queue[2] = {{seeds[0]}, {seeds[1]}};
-  std::size_t head[2] = {0, 0};
-  side_of[seeds[0]] = 1;
-  side_of[seeds[1]] = 2;
-  bool met = false;
-  int finished = -1;
-  while (!met && finished < 0) {
-    for (int s = 0; s < 2 && !met && finished < 0; ++s) {
-      if (head[s] == queue[s].size()) {
-        finished = s;
-        break;
-      }
-      const std::uint32_t v = queue[s][head[s]++];
-      const auto mark = static_cast<std::uint8_t>(s + 1);
-      for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-        const std::uint32_t e = topo.vertex_edges[i];
-        if (cut[e]) continue;
-        const std::uint32_t w = topo.edges[e][0] ^ topo.edges[e][1] ^ v;
-        if (side_of[w] == 0) {
-          side_of[w] = mark;
-          queue[s].push_back(w);
-        } else if (side_of[w] != mark) {
-          met = true;
-          break;
-        }
-      }
-    }
-  }
-  if (!met && finished >= 0) {
+  for (std::uint32_t e : odd) scratch.cut[e] = 1;
+  // Grow the two sides of the first cut edge in lock step: if one side runs out first it is a
+  // separate region (the smaller side by vertex count); if the two fronts meet, the track
+  // separates nothing. Cost: the smaller side, not the mesh.
+  const int finished = grow_sides(topo, topo.edges[odd.front()][0], topo.edges[odd.front()][1], scratch);
+  if (finished >= 0) {
     track.separates = true;
     const auto mark = static_cast<std::uint8_t>(finished + 1);
-    track.smaller_area = side_area(topo, queue[finished], mark, scratch);
+    track.smaller_area = side_area(topo, scratch.queue[finished].data(), scratch.reached[finished], mark, scratch);
   }
   for (int s = 0; s < 2; ++s)
-    for (std::uint32_t v : queue[s]) side_of[v] = 0;
-  for (std::uint32_t e : odd) cut[e] = 0;
+    for (std::size_t i = 0; i < scratch.reached[s]; ++i) scratch.side_of[scratch.queue[s][i]] = 0;
+  for (std::uint32_t e : odd) scratch.cut[e] = 0;
 }
 
 }  // namespace
