@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -160,9 +161,8 @@ std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
       const std::uint32_t v = stack.back();
       stack.pop_back();
       for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-        const std::uint32_t e = topo.vertex_edges[i];
-        if (edge_is_cut[e]) continue;
-        const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
+        if (edge_is_cut[topo.vertex_edges[i]]) continue;
+        const std::uint32_t w = topo.vertex_neighbors[i];
         if (region[w - begin] == kNone) {
           region[w - begin] = id;
           stack.push_back(w);
@@ -175,38 +175,48 @@ std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
 
 namespace {
 
+// A list of ids with room for `size` entries, not initialised (a side never holds more vertices,
+// nor more triangles, than the mesh: sized once per thread, never cleared).
+struct IdBuffer {
+  std::unique_ptr<std::uint32_t[]> ids;
+  std::size_t size = 0;
+  std::uint32_t* at_least(std::size_t n) {
+    if (size < n) {
+      ids.reset(new std::uint32_t[n]);
+      size = n;
+    }
+    return ids.get();
+  }
+};
+
 // Per-thread flags of a separation test, all zero between tests (sized on first use), and lists
 // kept for their capacity.
 struct SeparationScratch {
-  std::vector<std::uint8_t> cut;      // per edge
+  std::vector<std::uint8_t> blocked;  // per entry of vertex_edges: the edge is cut
   std::vector<std::uint8_t> side_of;  // per welded vertex: 0, or 1 + the side that reached it
   std::vector<std::uint8_t> seen;     // per triangle
-  std::vector<std::uint32_t> triangles;
-  std::vector<std::uint32_t> edges;      // the track's crossed edges
-  std::vector<std::uint32_t> queue[2];  // the vertices each side reached, in order (sized once)
-  std::size_t reached[2] = {0, 0};      // how many of queue[s] are set
+  IdBuffer triangles;
+  std::vector<std::uint32_t> edges;  // the track's crossed edges
+  IdBuffer queue[2];                 // the vertices each side reached, in order
+  std::size_t reached[2] = {0, 0};   // how many of queue[s] are set
 };
 
 // Grows the two sides of a cut edge in lock step, one vertex of each in turn, never crossing a
 // cut edge. Returns the side (0 or 1) that runs out first, or -1 when the fronts meet. Each side's
 // vertices are the first scratch.reached[side] of scratch.queue[side], marked 1 + side in
-// scratch.side_of. The neighbours of a vertex
-// are taken without data-dependent branches (whether one is new or cut is not predictable): each
-// is written at the end of the queue, which grows by one only when the neighbour is new.
+// scratch.side_of. The neighbours of a vertex are taken without data-dependent branches (whether
+// one is new or cut is not predictable): each is written at the end of the queue, which grows by
+// one only when the neighbour is new.
 int grow_sides(const SceneTopology& topo, std::uint32_t seed0, std::uint32_t seed1,
                SeparationScratch& scratch) {
   const std::uint32_t* edge_begin = topo.vertex_edge_begin.data();
-  const std::uint32_t* vertex_edges = topo.vertex_edges.data();
-  const std::array<std::uint32_t, 2>* edges = topo.edges.data();
-  const std::uint8_t* cut = scratch.cut.data();
+  const std::uint32_t* neighbors = topo.vertex_neighbors.data();
+  const std::uint8_t* blocked = scratch.blocked.data();
   std::uint8_t* side_of = scratch.side_of.data();
   std::uint32_t* queue[2];
   std::size_t head[2] = {0, 0}, size[2] = {1, 1};
-  for (int s = 0; s < 2; ++s) {
-    // A side never holds more vertices than the mesh, plus the slot written past its end.
-    if (scratch.queue[s].size() < topo.points.size() + 1) scratch.queue[s].resize(topo.points.size() + 1);
-    queue[s] = scratch.queue[s].data();
-  }
+  // A side never holds more vertices than the mesh, plus the slot written past its end.
+  for (int s = 0; s < 2; ++s) queue[s] = scratch.queue[s].at_least(topo.points.size() + 1);
   queue[0][0] = seed0;
   queue[1][0] = seed1;
   side_of[seed0] = 1;
@@ -220,20 +230,19 @@ int grow_sides(const SceneTopology& topo, std::uint32_t seed0, std::uint32_t see
         break;
       }
       const std::uint32_t v = queue[s][head[s]++];
-      const auto mark = static_cast<std::uint8_t>(s + 1);
+      const unsigned mark = static_cast<unsigned>(s + 1), other_mark = 3 - mark;
       std::uint32_t* q = queue[s];
       std::size_t n = size[s];
       unsigned other = 0;
       for (std::uint32_t i = edge_begin[v]; i < edge_begin[v + 1]; ++i) {
-        const std::uint32_t e = vertex_edges[i];
-        const std::uint32_t w = edges[e][0] ^ edges[e][1] ^ v;
-        const unsigned open = cut[e] ^ 1u;
-        const std::uint8_t was = side_of[w];
+        const std::uint32_t w = neighbors[i];
+        const unsigned open = blocked[i] ^ 1u;
+        const unsigned was = side_of[w];
         const unsigned fresh = open & static_cast<unsigned>(was == 0);
-        other |= open & static_cast<unsigned>(was != 0 && was != mark);
+        other |= open & static_cast<unsigned>(was == other_mark);
         q[n] = w;
         n += fresh;
-        side_of[w] = fresh ? mark : was;
+        side_of[w] = static_cast<std::uint8_t>(was | (mark & (0u - fresh)));
       }
       size[s] = n;
       met = other != 0;
@@ -251,15 +260,14 @@ int grow_sides(const SceneTopology& topo, std::uint32_t seed0, std::uint32_t see
 double side_area(const SceneTopology& topo, const std::uint32_t* side, std::size_t side_count,
                  std::uint8_t mark, SeparationScratch& scratch) {
   std::vector<std::uint8_t>& seen = scratch.seen;
-  std::vector<std::uint32_t>& list = scratch.triangles;
   if (seen.empty()) seen.assign(topo.tris.size(), 0);
+  std::uint32_t* list = scratch.triangles.at_least(topo.tris.size() + 1);  // + the slot past the end
   std::size_t count = 0;
   for (std::size_t s = 0; s < side_count; ++s) {
     const std::uint32_t v = side[s];
     for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
       const std::uint32_t e = topo.vertex_edges[i];
       const std::uint32_t first = topo.edge_face_begin[e], last = topo.edge_face_begin[e + 1];
-      if (list.size() < count + (last - first)) list.resize(2 * (count + (last - first)));
       for (std::uint32_t k = first; k < last; ++k) {
         const std::uint32_t t = topo.edge_faces[k];
         list[count] = t;
@@ -300,11 +308,21 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
     track.separates = true;
     return;
   }
-  if (scratch.cut.empty()) {
-    scratch.cut.assign(topo.edges.size(), 0);
+  if (scratch.blocked.empty()) {
+    scratch.blocked.assign(topo.vertex_edges.size(), 0);
     scratch.side_of.assign(topo.points.size(), 0);
   }
-  for (std::uint32_t e : odd) scratch.cut[e] = 1;
+  // Cut flags by entry of the vertices' edge lists, read in step with the neighbours.
+  auto block = [&](std::uint8_t value) {
+    for (std::uint32_t e : odd) {
+      for (std::uint32_t v : topo.edges[e]) {
+        const auto first = topo.vertex_edges.begin() + topo.vertex_edge_begin[v];
+        const auto last = topo.vertex_edges.begin() + topo.vertex_edge_begin[v + 1];
+        scratch.blocked[std::lower_bound(first, last, e) - topo.vertex_edges.begin()] = value;
+      }
+    }
+  };
+  block(1);
   // Grow the two sides of the first cut edge in lock step: if one side runs out first it is a
   // separate region (the smaller side by vertex count); if the two fronts meet, the track
   // separates nothing. Cost: the smaller side, not the mesh.
@@ -312,11 +330,11 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
   if (finished >= 0) {
     track.separates = true;
     const auto mark = static_cast<std::uint8_t>(finished + 1);
-    track.smaller_area = side_area(topo, scratch.queue[finished].data(), scratch.reached[finished], mark, scratch);
+    track.smaller_area = side_area(topo, scratch.queue[finished].ids.get(), scratch.reached[finished], mark, scratch);
   }
   for (int s = 0; s < 2; ++s)
-    for (std::size_t i = 0; i < scratch.reached[s]; ++i) scratch.side_of[scratch.queue[s][i]] = 0;
-  for (std::uint32_t e : odd) scratch.cut[e] = 0;
+    for (std::size_t i = 0; i < scratch.reached[s]; ++i) scratch.side_of[scratch.queue[s].ids[i]] = 0;
+  block(0);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "detect/run_parallel.h"
 #include "detect/triangle_bvh.h"
 
 namespace untangle {
@@ -74,7 +75,7 @@ TriangleCells triangle_cells(std::uint32_t a, std::uint32_t b, std::uint32_t c) 
 }  // namespace
 
 std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo,
-                                                       const std::vector<bool>& cull) {
+                                                       const std::vector<bool>& cull, int threads) {
   const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
   std::vector<std::vector<std::uint32_t>> kept(meshes);
   auto keep_all = [&](std::size_t m) {
@@ -87,27 +88,31 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
   }
   // Each mesh's box, from its vertices (a superset of its triangles' corners). Non-finite
   // coordinates defeat the grid's rounding: then nothing is culled.
+  // The per-mesh passes run on the meshes in parallel, each writing its own slots.
   std::vector<Box3> bounds(meshes);
-  std::vector<bool> has(meshes, false);
-  for (std::size_t m = 0; m < meshes; ++m) {
-    const std::uint32_t first = topo.mesh_vertex_begin[m], last = topo.mesh_vertex_begin[m + 1];
-    if (first == last || topo.mesh_tri_begin[m] == topo.mesh_tri_begin[m + 1]) continue;
-    has[m] = true;
-    Box3& box = bounds[m];
-    box.lo = box.hi = topo.points[first];
-    bool finite = true;  // a comparison, not a sum: no chain of additions to wait for
-    for (std::uint32_t v = first; v < last; ++v) {
-      const Vec3& p = topo.points[v];
-      for (int k = 0; k < 3; ++k) {
-        finite &= std::abs(p[k]) <= std::numeric_limits<double>::max();  // false for inf and NaN
-        box.lo[k] = std::min(box.lo[k], p[k]);
-        box.hi[k] = std::max(box.hi[k], p[k]);
+  std::vector<std::uint8_t> has(meshes, 0), finite(meshes, 1);
+  run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t m = begin; m < end; ++m) {
+      const std::uint32_t first = topo.mesh_vertex_begin[m], last = topo.mesh_vertex_begin[m + 1];
+      if (first == last || topo.mesh_tri_begin[m] == topo.mesh_tri_begin[m + 1]) continue;
+      has[m] = 1;
+      Box3& box = bounds[m];
+      box.lo = box.hi = topo.points[first];
+      bool all_finite = true;  // a comparison, not a sum: no chain of additions to wait for
+      for (std::uint32_t v = first; v < last; ++v) {
+        const Vec3& p = topo.points[v];
+        for (int k = 0; k < 3; ++k) {
+          all_finite &= std::abs(p[k]) <= std::numeric_limits<double>::max();  // false for inf, NaN
+          box.lo[k] = std::min(box.lo[k], p[k]);
+          box.hi[k] = std::max(box.hi[k], p[k]);
+        }
       }
+      finite[m] = all_finite;
     }
-    if (!finite) {
-      for (std::size_t c = 0; c < meshes; ++c) keep_all(c);
-      return kept;
-    }
+  });
+  if (std::find(finite.begin(), finite.end(), 0) != finite.end()) {
+    for (std::size_t c = 0; c < meshes; ++c) keep_all(c);
+    return kept;
   }
   for (std::size_t m = 0; m < meshes; ++m)
     if (!cull[m]) keep_all(m);
@@ -139,25 +144,28 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
   }
   // Which sides of the region every vertex of a mesh that reaches it lies beyond (six
   // comparisons); the region test of a triangle needs nothing more.
-  std::vector<bool> near(meshes, false);
+  std::vector<std::uint8_t> near(meshes, 0);
   std::vector<std::uint8_t> outside(topo.points.size());
-  for (std::size_t m = 0; m < meshes; ++m) {
-    near[m] = has[m] && bounds[m].overlaps(grid.region);
-    if (!near[m]) continue;
-    for (std::uint32_t v = topo.mesh_vertex_begin[m]; v < topo.mesh_vertex_begin[m + 1]; ++v)
-      outside[v] = outside_bits(grid, topo.points[v]);
-  }
   auto in_region = [&](std::uint32_t t) {
     const auto& tri = topo.tris[t];
     return (outside[tri[0]] & outside[tri[1]] & outside[tri[2]]) == 0;
   };
   // First the region alone: culled meshes keep the triangles whose box reaches it.
+  run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t m = begin; m < end; ++m) {
+      near[m] = has[m] && bounds[m].overlaps(grid.region);
+      if (!near[m]) continue;
+      for (std::uint32_t v = topo.mesh_vertex_begin[m]; v < topo.mesh_vertex_begin[m + 1]; ++v)
+        outside[v] = outside_bits(grid, topo.points[v]);
+      if (!cull[m]) continue;
+      kept[m].reserve(topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m]);
+      for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t)
+        if (in_region(t)) kept[m].push_back(t);
+    }
+  });
   std::size_t largest = meshes;  // the culled mesh with the most triangles left
   for (std::size_t m = 0; m < meshes; ++m) {
     if (!cull[m] || !near[m]) continue;
-    kept[m].reserve(topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m]);
-    for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t)
-      if (in_region(t)) kept[m].push_back(t);
     if (largest == meshes || kept[m].size() > kept[largest].size()) largest = m;
   }
   if (largest == meshes || kept[largest].empty()) return kept;

@@ -238,7 +238,7 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
   std::vector<bool> cull(meshes);
   for (std::size_t m = 0; m < meshes; ++m)
     cull[m] = (!settings.self_pairs || skipped(m)) && !(skipped(m) && settings.skipped_bvh != nullptr);
-  const std::vector<std::vector<std::uint32_t>> kept = cull_triangles(topo, cull);
+  const std::vector<std::vector<std::uint32_t>> kept = cull_triangles(topo, cull, settings.threads);
   // One hierarchy per mesh, built in parallel (each into its own slot: the same trees for every
   // thread count).
   run_parallel(settings.threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
@@ -248,6 +248,10 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
     }
   });
   std::vector<std::array<std::uint32_t, 2>> pairs;
+  std::size_t indexed = 0;  // a first guess at the number of pairs, to grow the list less often
+  for (const auto& tree : per_mesh)
+    if (tree) indexed += tree->size();
+  pairs.reserve(2 * indexed);
   auto add = [&](std::uint32_t t, std::uint32_t u) { pairs.push_back({std::min(t, u), std::max(t, u)}); };
   for (std::size_t a = 0; a < meshes; ++a) {
     if (skipped(a)) continue;
