@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <numeric>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -175,24 +174,21 @@ std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
 
 namespace {
 
-// A list of ids with room for `size` entries, not initialised (a side never holds more vertices,
-// nor more triangles, than the mesh: sized once per thread, never cleared).
+// A list of ids of which callers track the used prefix; grown geometrically, keeping its entries,
+// so that its size follows the sides actually grown rather than the mesh (memory that is
+// allocated and cleared on every call costs page faults).
 struct IdBuffer {
-  std::unique_ptr<std::uint32_t[]> ids;
-  std::size_t size = 0;
-  std::uint32_t* at_least(std::size_t n) {
-    if (size < n) {
-      ids.reset(new std::uint32_t[n]);
-      size = n;
-    }
-    return ids.get();
+  std::vector<std::uint32_t> ids;
+  std::uint32_t* room(std::size_t n) {
+    if (ids.size() < n) ids.resize(std::max(n, 2 * ids.size()));
+    return ids.data();
   }
 };
 
 // Per-thread flags of a separation test, all zero between tests (sized on first use), and lists
 // kept for their capacity.
 struct SeparationScratch {
-  std::vector<std::uint8_t> blocked;  // per entry of vertex_edges: the edge is cut
+  std::vector<std::uint64_t> blocked;  // a bit per entry of vertex_edges: the edge is cut
   std::vector<std::uint8_t> side_of;  // per welded vertex: 0, or 1 + the side that reached it
   std::vector<std::uint8_t> seen;     // per triangle
   IdBuffer triangles;
@@ -211,12 +207,14 @@ int grow_sides(const SceneTopology& topo, std::uint32_t seed0, std::uint32_t see
                SeparationScratch& scratch) {
   const std::uint32_t* edge_begin = topo.vertex_edge_begin.data();
   const std::uint32_t* neighbors = topo.vertex_neighbors.data();
-  const std::uint8_t* blocked = scratch.blocked.data();
+  const std::uint64_t* blocked = scratch.blocked.data();
   std::uint8_t* side_of = scratch.side_of.data();
   std::uint32_t* queue[2];
-  std::size_t head[2] = {0, 0}, size[2] = {1, 1};
-  // A side never holds more vertices than the mesh, plus the slot written past its end.
-  for (int s = 0; s < 2; ++s) queue[s] = scratch.queue[s].at_least(topo.points.size() + 1);
+  std::size_t head[2] = {0, 0}, size[2] = {1, 1}, room[2];
+  for (int s = 0; s < 2; ++s) {
+    queue[s] = scratch.queue[s].room(64);
+    room[s] = scratch.queue[s].ids.size();
+  }
   queue[0][0] = seed0;
   queue[1][0] = seed1;
   side_of[seed0] = 1;
@@ -231,12 +229,16 @@ int grow_sides(const SceneTopology& topo, std::uint32_t seed0, std::uint32_t see
       }
       const std::uint32_t v = queue[s][head[s]++];
       const unsigned mark = static_cast<unsigned>(s + 1), other_mark = 3 - mark;
-      std::uint32_t* q = queue[s];
       std::size_t n = size[s];
+      if (n + (edge_begin[v + 1] - edge_begin[v]) + 1 > room[s]) {  // each neighbour is written
+        queue[s] = scratch.queue[s].room(n + (edge_begin[v + 1] - edge_begin[v]) + 1);
+        room[s] = scratch.queue[s].ids.size();
+      }
+      std::uint32_t* q = queue[s];
       unsigned other = 0;
       for (std::uint32_t i = edge_begin[v]; i < edge_begin[v + 1]; ++i) {
         const std::uint32_t w = neighbors[i];
-        const unsigned open = blocked[i] ^ 1u;
+        const unsigned open = static_cast<unsigned>(~blocked[i >> 6] >> (i & 63)) & 1u;
         const unsigned was = side_of[w];
         const unsigned fresh = open & static_cast<unsigned>(was == 0);
         other |= open & static_cast<unsigned>(was == other_mark);
@@ -261,13 +263,18 @@ double side_area(const SceneTopology& topo, const std::uint32_t* side, std::size
                  std::uint8_t mark, SeparationScratch& scratch) {
   std::vector<std::uint8_t>& seen = scratch.seen;
   if (seen.empty()) seen.assign(topo.tris.size(), 0);
-  std::uint32_t* list = scratch.triangles.at_least(topo.tris.size() + 1);  // + the slot past the end
+  std::uint32_t* list = scratch.triangles.room(64);
+  std::size_t room = scratch.triangles.ids.size();
   std::size_t count = 0;
   for (std::size_t s = 0; s < side_count; ++s) {
     const std::uint32_t v = side[s];
     for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
       const std::uint32_t e = topo.vertex_edges[i];
       const std::uint32_t first = topo.edge_face_begin[e], last = topo.edge_face_begin[e + 1];
+      if (count + (last - first) + 1 > room) {  // each face is written, the new ones kept
+        list = scratch.triangles.room(count + (last - first) + 1);
+        room = scratch.triangles.ids.size();
+      }
       for (std::uint32_t k = first; k < last; ++k) {
         const std::uint32_t t = topo.edge_faces[k];
         list[count] = t;
@@ -309,20 +316,22 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
     return;
   }
   if (scratch.blocked.empty()) {
-    scratch.blocked.assign(topo.vertex_edges.size(), 0);
+    scratch.blocked.assign((topo.vertex_edges.size() + 63) / 64, 0);
     scratch.side_of.assign(topo.points.size(), 0);
   }
   // Cut flags by entry of the vertices' edge lists, read in step with the neighbours.
-  auto block = [&](std::uint8_t value) {
+  auto block = [&](bool value) {
     for (std::uint32_t e : odd) {
       for (std::uint32_t v : topo.edges[e]) {
         const auto first = topo.vertex_edges.begin() + topo.vertex_edge_begin[v];
         const auto last = topo.vertex_edges.begin() + topo.vertex_edge_begin[v + 1];
-        scratch.blocked[std::lower_bound(first, last, e) - topo.vertex_edges.begin()] = value;
+        const auto i = static_cast<std::size_t>(std::lower_bound(first, last, e) - topo.vertex_edges.begin());
+        const std::uint64_t bit = std::uint64_t{1} << (i & 63);
+        scratch.blocked[i >> 6] = value ? scratch.blocked[i >> 6] | bit : scratch.blocked[i >> 6] & ~bit;
       }
     }
   };
-  block(1);
+  block(true);
   // Grow the two sides of the first cut edge in lock step: if one side runs out first it is a
   // separate region (the smaller side by vertex count); if the two fronts meet, the track
   // separates nothing. Cost: the smaller side, not the mesh.
@@ -330,11 +339,11 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
   if (finished >= 0) {
     track.separates = true;
     const auto mark = static_cast<std::uint8_t>(finished + 1);
-    track.smaller_area = side_area(topo, scratch.queue[finished].ids.get(), scratch.reached[finished], mark, scratch);
+    track.smaller_area = side_area(topo, scratch.queue[finished].ids.data(), scratch.reached[finished], mark, scratch);
   }
   for (int s = 0; s < 2; ++s)
     for (std::size_t i = 0; i < scratch.reached[s]; ++i) scratch.side_of[scratch.queue[s].ids[i]] = 0;
-  block(0);
+  block(false);
 }
 
 }  // namespace
