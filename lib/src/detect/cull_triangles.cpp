@@ -78,6 +78,9 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
                                                        const std::vector<bool>& cull, int threads) {
   const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
   std::vector<std::vector<std::uint32_t>> kept(meshes);
+  auto mesh_triangles = [&](std::size_t m) -> std::size_t {
+    return topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m];
+  };
   auto keep_all = [&](std::size_t m) {
     kept[m].resize(topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m]);
     for (std::size_t i = 0; i < kept[m].size(); ++i) kept[m][i] = topo.mesh_tri_begin[m] + static_cast<std::uint32_t>(i);
@@ -150,30 +153,34 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
     const auto& tri = topo.tris[t];
     return (outside[tri[0]] & outside[tri[1]] & outside[tri[2]]) == 0;
   };
-  // First the region alone: culled meshes keep the triangles whose box reaches it.
+  // The grid serves the culled mesh with the most triangles (`largest`): the cells that the boxes
+  // of every other mesh's triangles in the region cover are marked, and it keeps its triangles
+  // that cover a marked cell. (Marking with the large mesh to cull the small ones would cost more
+  // than it saves.) A box meeting another mesh's triangle box shares a point with it inside the
+  // region, whose cell both cover: so the grid alone culls `largest` soundly, and its own region
+  // pass is skipped (a triangle beyond the region covers only clamped border cells, rarely marked).
+  std::size_t largest = meshes;
+  for (std::size_t m = 0; m < meshes; ++m) {
+    near[m] = has[m] && bounds[m].overlaps(grid.region);
+    if (!cull[m] || !near[m]) continue;
+    if (largest == meshes || mesh_triangles(m) > mesh_triangles(largest)) largest = m;
+  }
+  if (largest == meshes) return kept;
+  // The region alone for the other meshes: culled ones keep the triangles whose box reaches it.
+  auto region_pass = [&](std::size_t m) {
+    kept[m].reserve(mesh_triangles(m));
+    for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t)
+      if (in_region(t)) kept[m].push_back(t);
+  };
   run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t m = begin; m < end; ++m) {
-      near[m] = has[m] && bounds[m].overlaps(grid.region);
-      if (!near[m]) continue;
+      if (!near[m] || m == largest) continue;
       for (std::uint32_t v = topo.mesh_vertex_begin[m]; v < topo.mesh_vertex_begin[m + 1]; ++v)
         outside[v] = outside_bits(grid, topo.points[v]);
-      if (!cull[m]) continue;
-      kept[m].reserve(topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m]);
-      for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t)
-        if (in_region(t)) kept[m].push_back(t);
+      if (cull[m]) region_pass(m);
     }
   });
-  std::size_t largest = meshes;  // the culled mesh with the most triangles left
-  for (std::size_t m = 0; m < meshes; ++m) {
-    if (!cull[m] || !near[m]) continue;
-    if (largest == meshes || kept[m].size() > kept[largest].size()) largest = m;
-  }
-  if (largest == meshes || kept[largest].empty()) return kept;
-  // Then the grid, for the culled mesh with the most triangles left: mark the cells that the
-  // boxes of every other mesh's triangles in the region cover; keep its triangles that cover a
-  // marked cell. (Marking with the large mesh to cull the small ones would cost more than it
-  // saves: they keep their triangles in the region.) Cells are computed per corner where a mesh
-  // has few triangles to visit, else once per vertex.
+  // Cells are computed per corner where a mesh has few triangles to visit, else once per vertex.
   std::vector<std::uint32_t> cell(topo.points.size());
   auto cells_of = [&](std::uint32_t t, bool stored) {
     const auto& tri = topo.tris[t];
@@ -225,7 +232,12 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
       for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1] && within; ++t)
         within = mark(t);
     }
-    if (!within) return kept;  // huge triangles: the region alone decides
+    if (!within) {  // huge triangles: the region alone decides
+      for (std::uint32_t v = topo.mesh_vertex_begin[largest]; v < topo.mesh_vertex_begin[largest + 1]; ++v)
+        outside[v] = outside_bits(grid, topo.points[v]);
+      region_pass(largest);
+      return kept;
+    }
   }
   std::vector<std::uint8_t> corner_near(topo.points.size());
   for (std::uint32_t v = topo.mesh_vertex_begin[largest]; v < topo.mesh_vertex_begin[largest + 1]; ++v) {
@@ -234,8 +246,7 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
     corner_near[v] = near_marked[grid.index(c & 0xff, c >> 8 & 0xff, c >> 16 & 0xff)];
   }
   std::vector<std::uint32_t>& list = kept[largest];
-  std::size_t out = 0;
-  for (std::uint32_t t : list) {
+  for (std::uint32_t t = topo.mesh_tri_begin[largest]; t < topo.mesh_tri_begin[largest + 1]; ++t) {
     const auto& tri = topo.tris[t];
     const bool near_all = (corner_near[tri[0]] & corner_near[tri[1]] & corner_near[tri[2]]) != 0;
     const TriangleCells box = cells_of(t, true);
@@ -252,9 +263,8 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
         for (int y = box.lo[1]; y <= box.hi[1] && !meets; ++y)
           for (int x = box.lo[0]; x <= box.hi[0] && !meets; ++x) meets = marked[grid.index(x, y, z)] != 0;
     }
-    if (meets) list[out++] = t;
+    if (meets) list.push_back(t);
   }
-  list.resize(out);
   return kept;
 }
 
