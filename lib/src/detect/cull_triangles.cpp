@@ -153,32 +153,39 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
     const auto& tri = topo.tris[t];
     return (outside[tri[0]] & outside[tri[1]] & outside[tri[2]]) == 0;
   };
-  // The grid serves the culled mesh with the most triangles (`largest`): the cells that the boxes
-  // of every other mesh's triangles in the region cover are marked, and it keeps its triangles
-  // that cover a marked cell. (Marking with the large mesh to cull the small ones would cost more
-  // than it saves.) A box meeting another mesh's triangle box shares a point with it inside the
-  // region, whose cell both cover: so the grid alone culls `largest` soundly, and its own region
-  // pass is skipped (a triangle beyond the region covers only clamped border cells, rarely marked).
+  // Those sides for the meshes that reach the region, and how many of their vertices lie inside.
+  std::vector<std::size_t> inside(meshes, 0);
+  run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t m = begin; m < end; ++m) {
+      near[m] = has[m] && bounds[m].overlaps(grid.region);
+      if (!near[m]) continue;
+      std::size_t count = 0;
+      for (std::uint32_t v = topo.mesh_vertex_begin[m]; v < topo.mesh_vertex_begin[m + 1]; ++v) {
+        outside[v] = outside_bits(grid, topo.points[v]);
+        count += outside[v] == 0;
+      }
+      inside[m] = count;
+    }
+  });
+  // The grid serves the culled mesh with the most vertices in the region (`largest`): the cells
+  // that the boxes of every other mesh's triangles in the region cover are marked, and it keeps
+  // its triangles in the region that cover a marked cell. (Marking with the large mesh to cull the
+  // small ones would cost more than it saves.) Its region test is made in the same pass as the
+  // grid's; the other culled meshes keep the triangles whose box reaches the region.
   std::size_t largest = meshes;
   for (std::size_t m = 0; m < meshes; ++m) {
-    near[m] = has[m] && bounds[m].overlaps(grid.region);
     if (!cull[m] || !near[m]) continue;
-    if (largest == meshes || mesh_triangles(m) > mesh_triangles(largest)) largest = m;
+    if (largest == meshes || inside[m] > inside[largest]) largest = m;
   }
   if (largest == meshes) return kept;
-  // The region alone for the other meshes: culled ones keep the triangles whose box reaches it.
   auto region_pass = [&](std::size_t m) {
     kept[m].reserve(mesh_triangles(m));
     for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t)
       if (in_region(t)) kept[m].push_back(t);
   };
   run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t m = begin; m < end; ++m) {
-      if (!near[m] || m == largest) continue;
-      for (std::uint32_t v = topo.mesh_vertex_begin[m]; v < topo.mesh_vertex_begin[m + 1]; ++v)
-        outside[v] = outside_bits(grid, topo.points[v]);
-      if (cull[m]) region_pass(m);
-    }
+    for (std::size_t m = begin; m < end; ++m)
+      if (near[m] && cull[m] && m != largest) region_pass(m);
   });
   // Cells are computed per corner where a mesh has few triangles to visit, else once per vertex.
   std::vector<std::uint32_t> cell(topo.points.size());
@@ -233,8 +240,6 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
         within = mark(t);
     }
     if (!within) {  // huge triangles: the region alone decides
-      for (std::uint32_t v = topo.mesh_vertex_begin[largest]; v < topo.mesh_vertex_begin[largest + 1]; ++v)
-        outside[v] = outside_bits(grid, topo.points[v]);
       region_pass(largest);
       return kept;
     }
@@ -248,6 +253,7 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
   std::vector<std::uint32_t>& list = kept[largest];
   for (std::uint32_t t = topo.mesh_tri_begin[largest]; t < topo.mesh_tri_begin[largest + 1]; ++t) {
     const auto& tri = topo.tris[t];
+    if (!in_region(t)) continue;
     const bool near_all = (corner_near[tri[0]] & corner_near[tri[1]] & corner_near[tri[2]]) != 0;
     const TriangleCells box = cells_of(t, true);
     bool meets = false;
