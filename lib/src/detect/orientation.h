@@ -76,20 +76,26 @@ inline int orient_2d(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
 // The exact side of points with respect to a plane normal to an axis: a, b, c have the same
 // coordinate `axis` (bit for bit). Then det[b-a, c-a, d-a] = (d-a)[axis] * (the axis component of
 // (b-a) x (c-a)), so side(d) is CGAL::orientation(a, b, c, d) from one comparison, with the
-// triangle's turn in the plane decided once (orient_2d). Flat sheets make nearly every plane one
-// of these; CGAL's filter would fall back to interval arithmetic on the exact zeros of the minors.
+// triangle's turn in the plane decided once, when a first point off the plane asks (orient_2d;
+// points in the plane, as for neighbours in a flat sheet, need no turn). Flat sheets make nearly
+// every plane one of these; CGAL's filter would fall back to interval arithmetic on the exact
+// zeros of the minors. The corners must outlive the object; not for use by several threads.
 class AxisPlane {
  public:
   AxisPlane(const Vec3& a, const Vec3& b, const Vec3& c, int axis)
-      : level_(a[axis]), axis_(axis), turn_(orient_2d(a, b, c, axis) * (axis == 1 ? -1 : 1)) {}
+      : a_(a), b_(b), c_(c), level_(a[axis]), axis_(axis) {}
   int side(const Vec3& d) const {
-    return d[axis_] > level_ ? turn_ : d[axis_] < level_ ? -turn_ : 0;
+    if (d[axis_] == level_) return 0;
+    if (turn_ == kUnknown) turn_ = orient_2d(a_, b_, c_, axis_) * (axis_ == 1 ? -1 : 1);
+    return d[axis_] > level_ ? turn_ : -turn_;
   }
 
  private:
+  static constexpr int kUnknown = 2;
+  const Vec3 &a_, &b_, &c_;
   double level_;
   int axis_;
-  int turn_;  // sign of the axis component of (b-a) x (c-a): (j, i) order on axis 1
+  mutable int turn_ = kUnknown;  // sign of the axis component of (b-a) x (c-a)
 };
 
 // The perturbed sign alone (exact arithmetic throughout): exposed for tests.
