@@ -2,7 +2,7 @@
 // cow; untangle::find_intersections against CGAL's Polygon_mesh_processing routines.
 //
 // Usage: untangle_bench_detect [--quick]
-//   --quick  only n = 81, 3 repeats (default: n in {41, 81, 121, 161, 201, 281}, 5 repeats)
+//   --quick  only n = 81, 9 repeats (default: n in {41, 81, 121, 161, 201, 281}, 5 repeats)
 // Exit status: 0 success; 1 the cow is not installed (libcgal-demo); 2 pair counts disagree.
 //
 // What is compared (DESIGN §9: targets are ratios against CGAL on the same meshes):
@@ -15,7 +15,10 @@
 //   PMP::surface_intersection (polylines of sheet ∩ cow, corefinement's intersection graph).
 // CGAL's input conversion to Surface_mesh (welding included) is done once, outside the timings;
 // ours welds inside every timed call. Times are wall-clock (std::chrono::steady_clock), best and
-// median over the repeats; ratios are CGAL median / our median (> 1: we are faster).
+// median over the repeats; ratios are CGAL median / our median (> 1: we are faster), and for the
+// two headline comparisons (between the meshes, the sheet alone) also CGAL best / our best.
+// Those two are timed in alternation, one run of ours then one of CGAL's per repeat, so that a
+// change of machine load during the run falls on both sides alike.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -61,27 +64,33 @@ struct OursRun {
   untangle::Intersections result;
 };
 
-OursRun run_ours(const std::vector<untangle::Mesh>& meshes, int threads, int repeats,
-                 bool self = true) {
-  OursRun run;
+// Timings of repeated calls of find_intersections, one call at a time.
+struct OursSamples {
   std::vector<double> total, detect, contours, prepared;
-  untangle::DetectOptions options;
-  options.threads = threads;
-  options.self_intersections = self;
-  for (int r = 0; r < repeats; ++r) {
+  untangle::Intersections result;
+
+  void run_once(const std::vector<untangle::Mesh>& meshes, int threads, bool self) {
+    untangle::DetectOptions options;
+    options.threads = threads;
+    options.self_intersections = self;
     untangle::DetectTimings timings;
     const auto start = std::chrono::steady_clock::now();
-    run.result = untangle::find_intersections(meshes, options, &timings);
+    result = untangle::find_intersections(meshes, options, &timings);
     total.push_back(elapsed_ms(start));
     prepared.push_back(total.back() - timings.topology_ms);
     detect.push_back(timings.detect_ms);
     contours.push_back(timings.contours_ms);
   }
-  run.total = stat_of(total);
-  run.detect = stat_of(detect);
-  run.contours = stat_of(contours);
-  run.prepared = stat_of(prepared);
-  return run;
+  OursRun stats() const {
+    return {stat_of(total), stat_of(detect), stat_of(contours), stat_of(prepared), result};
+  }
+};
+
+OursRun run_ours(const std::vector<untangle::Mesh>& meshes, int threads, int repeats,
+                 bool self = true) {
+  OursSamples samples;
+  for (int r = 0; r < repeats; ++r) samples.run_once(meshes, threads, self);
+  return samples.stats();
 }
 
 struct Row {
@@ -104,6 +113,10 @@ double ratio(const Stat& cgal, const Stat& ours) {
   return ours.median > 0.0 ? cgal.median / ours.median : 0.0;
 }
 
+double ratio_best(const Stat& cgal, const Stat& ours) {
+  return ours.best > 0.0 ? cgal.best / ours.best : 0.0;
+}
+
 std::string best_median(const Stat& s) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%9.2f /%9.2f", s.best, s.median);
@@ -123,7 +136,7 @@ int main(int argc, char** argv) {
       profile_runs = std::max(1, std::atoi(argv[++i]));
       if (i + 1 < argc && argv[i + 1][0] != '-') profile_part = argv[++i];
     } else if (std::strcmp(argv[i], "-h") == 0 || std::strcmp(argv[i], "--help") == 0) {
-      std::printf("usage: %s [--quick] [--profile N [between|self]]\n  --quick  only n = 81 with 3 repeats\n"
+      std::printf("usage: %s [--quick] [--profile N [between|self]]\n  --quick  only n = 81 with 9 repeats\n"
                   "  --profile N  only ours at n = 81, N times: between the meshes, then the sheet "
                   "alone (for a profiler)\n",
                   argv[0]);
@@ -160,7 +173,7 @@ int main(int argc, char** argv) {
   }
   const std::vector<int> sizes = quick ? std::vector<int>{81}
                                        : std::vector<int>{41, 81, 121, 161, 201, 281};
-  const int repeats = quick ? 3 : 5;
+  const int repeats = quick ? 9 : 5;
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
 
   std::vector<Row> rows;
@@ -195,16 +208,29 @@ int main(int argc, char** argv) {
 
     row.all = run_ours(meshes, 0, repeats);
     row.one = run_ours(meshes, 1, repeats);
-    row.between = run_ours(meshes, 0, repeats, false);
+    // The headline comparisons, in alternation (see the top of this file).
+    OursSamples between, sheet_self;
+    std::vector<double> cgal_surface, cgal_sheet_self;
+    const std::vector<untangle::Mesh> sheet{meshes[0]};
+    for (int r = 0; r < repeats; ++r) {
+      between.run_once(meshes, 0, false);
+      cgal_surface.push_back(time_runs(1, [&] {
+        row.polylines = untangle::cgal_reference::surface_intersection_polylines(
+            ref[0], ref[1], &row.polyline_points);
+      })[0]);
+      sheet_self.run_once(sheet, 0, true);
+      cgal_sheet_self.push_back(time_runs(1, [&] {
+        std::vector<TrianglePair> pairs;
+        untangle::cgal_reference::append_self_pairs(ref[0], 0, pairs);
+        row.cgal_sheet_self_pairs = pairs.size();
+      })[0]);
+    }
+    row.between = between.stats();
+    row.cgal_surface = stat_of(cgal_surface);
     row.pairs_between = row.between.result.triangle_pairs.size();
-
-    row.sheet_self = run_ours({meshes[0]}, 0, repeats);
+    row.sheet_self = sheet_self.stats();
+    row.cgal_sheet_self = stat_of(cgal_sheet_self);
     row.sheet_self_pairs = row.sheet_self.result.triangle_pairs.size();
-    row.cgal_sheet_self = stat_of(time_runs(repeats, [&] {
-      std::vector<TrianglePair> pairs;
-      untangle::cgal_reference::append_self_pairs(ref[0], 0, pairs);
-      row.cgal_sheet_self_pairs = pairs.size();
-    }));
     if (row.sheet_self_pairs != row.cgal_sheet_self_pairs) {
       mismatch = true;
       std::printf("!!!!!!!! MISMATCH n=%d: sheet self pairs ours %zu, CGAL %zu !!!!!!!!\n", n,
@@ -216,10 +242,6 @@ int main(int argc, char** argv) {
         repeats, [&] { cgal_pairs = untangle::cgal_reference::triangle_pairs(ref); }));
     row.cgal_face_face = stat_of(time_runs(repeats, [&] {
       row.pairs_face_face = untangle::cgal_reference::face_face_intersection(ref[0], ref[1]).size();
-    }));
-    row.cgal_surface = stat_of(time_runs(repeats, [&] {
-      row.polylines = untangle::cgal_reference::surface_intersection_polylines(
-          ref[0], ref[1], &row.polyline_points);
     }));
 
     const std::vector<TrianglePair>& ours = row.all.result.triangle_pairs;
@@ -282,20 +304,21 @@ int main(int argc, char** argv) {
   std::printf("  like for like: CGAL is timed on its prepared Surface_mesh, ours on prepared\n"
               "  topology (welding and edges left out on both sides); 'ours all' adds our welding,\n"
               "  'CGAL all' adds CGAL's conversion.\n");
-  std::printf("%5s %8s %21s %21s %21s %21s %9s %9s %9s\n", "n", "pairs", "ours det+contours",
-              "CGAL surface_inters.", "ours all", "CGAL all", "x prep", "x all", "x strict");
+  std::printf("%5s %8s %21s %21s %21s %21s %9s %9s %9s %9s\n", "n", "pairs", "ours det+contours",
+              "CGAL surface_inters.", "ours all", "CGAL all", "x prep", "x best", "x all", "x strict");
   for (const Row& r : rows) {
     Stat cgal_all = r.cgal_surface;
     cgal_all.best += r.convert_ms;
     cgal_all.median += r.convert_ms;
-    std::printf("%5d %8zu %21s %21s %21s %21s %9.2f %9.2f %9.2f\n", r.n, r.pairs_between,
+    std::printf("%5d %8zu %21s %21s %21s %21s %9.2f %9.2f %9.2f %9.2f\n", r.n, r.pairs_between,
                 best_median(r.between.prepared).c_str(), best_median(r.cgal_surface).c_str(),
                 best_median(r.between.total).c_str(), best_median(cgal_all).c_str(),
-                ratio(r.cgal_surface, r.between.prepared), ratio(cgal_all, r.between.total),
-                ratio(r.cgal_surface, r.between.total));
+                ratio(r.cgal_surface, r.between.prepared), ratio_best(r.cgal_surface, r.between.prepared),
+                ratio(cgal_all, r.between.total), ratio(r.cgal_surface, r.between.total));
   }
-  std::printf("  x prep = CGAL surface_intersection / ours without welding; x all = both with input\n"
-              "  preparation; x strict = CGAL without, ours with.\n");
+  std::printf("  x prep = CGAL surface_intersection / ours without welding (medians); x best = the\n"
+              "  same with the best runs; x all = both with input preparation; x strict = CGAL\n"
+              "  without, ours with.\n");
 
   std::printf("\ncurves: find_intersections (detection + contours) vs CGAL surface_intersection\n");
   std::printf("%5s %21s %21s %21s %21s %9s %9s\n", "n", "ours total (all)", "ours total (1t)",
@@ -310,12 +333,13 @@ int main(int argc, char** argv) {
   std::printf("\nself-intersections of the sheet alone: ours (find_intersections on the sheet: "
               "detection and contours; prepared = less welding) vs CGAL self_intersections on its "
               "prepared Surface_mesh\n");
-  std::printf("%5s %7s %21s %21s %21s %9s %9s\n", "n", "pairs", "ours total", "ours prepared",
-              "CGAL self_inters.", "x prep", "x all");
+  std::printf("%5s %7s %21s %21s %21s %9s %9s %9s\n", "n", "pairs", "ours total", "ours prepared",
+              "CGAL self_inters.", "x prep", "x best", "x all");
   for (const Row& r : rows) {
-    std::printf("%5d %7zu %21s %21s %21s %9.2f %9.2f\n", r.n, r.sheet_self_pairs,
+    std::printf("%5d %7zu %21s %21s %21s %9.2f %9.2f %9.2f\n", r.n, r.sheet_self_pairs,
                 best_median(r.sheet_self.total).c_str(), best_median(r.sheet_self.prepared).c_str(),
                 best_median(r.cgal_sheet_self).c_str(), ratio(r.cgal_sheet_self, r.sheet_self.prepared),
+                ratio_best(r.cgal_sheet_self, r.sheet_self.prepared),
                 ratio(r.cgal_sheet_self, r.sheet_self.total));
   }
 

@@ -234,6 +234,7 @@ TEST(DetectProperty, BetweenMeshesOnlyKeepsEveryNearTriangle) {
     const std::size_t mesh_count = topo.mesh_tri_begin.size() - 1;
     const std::vector<std::vector<std::uint32_t>> kept =
         cull_triangles(topo, std::vector<bool>(mesh_count, true));
+    ASSERT_EQ(kept, cull_triangles(topo, std::vector<bool>(mesh_count, true), 0));  // all cores
     std::vector<std::uint8_t> is_kept(topo.tris.size(), 0);
     for (const auto& list : kept) {
       ASSERT_TRUE(std::is_sorted(list.begin(), list.end()));

@@ -3,6 +3,7 @@
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <random>
@@ -91,6 +92,36 @@ TEST(Orientation, FilterAgreesWithCgalWhenItAnswers) {
   }
   EXPECT_GT(answered, 10000);
   EXPECT_GT(undecided, 1000);
+}
+
+// Planes normal to an axis: AxisPlane's side equals CGAL's exact orientation for each axis, with
+// the plane's corners on random, grid-snapped (collinear corners, points on the plane) and tiny or
+// huge coordinates, and every order of the corners.
+TEST(Orientation, AxisPlaneAgreesWithCgal) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> g(0, 2);
+  int zeros = 0, flat_triangles = 0;
+  for (int i = 0; i < 30000; ++i) {
+    const int axis = i % 3;
+    const double scale = i % 5 == 0 ? 1e-200 : i % 5 == 1 ? 1e200 : 1.0;
+    std::array<Vec3, 4> p;
+    for (auto& v : p) {
+      for (double& x : v) x = (i % 4 == 0 ? double(g(rng)) : u(rng)) * scale;
+    }
+    for (int k = 1; k < 3; ++k) p[k][axis] = p[0][axis];
+    if (i % 6 == 0) p[3][axis] = p[0][axis];
+    std::array<int, 3> order{0, 1, 2};
+    do {
+      const Vec3 &a = p[order[0]], &b = p[order[1]], &c = p[order[2]];
+      const int expected = cgal_orientation(a, b, c, p[3]);
+      ASSERT_EQ(AxisPlane(a, b, c, axis).side(p[3]), expected) << "case " << i;
+      zeros += expected == 0;
+      flat_triangles += orient_2d(a, b, c, axis) == 0;
+    } while (std::next_permutation(order.begin(), order.end()));
+  }
+  EXPECT_GT(zeros, 10000);
+  EXPECT_GT(flat_triangles, 1000);
 }
 
 }  // namespace

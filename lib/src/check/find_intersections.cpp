@@ -6,6 +6,7 @@
 #include "check/summarize.h"
 #include "contour/build_contours.h"
 #include "detect/detect_crossings.h"
+#include "detect/run_parallel.h"
 #include "topology/scene_topology.h"
 
 namespace untangle {
@@ -34,8 +35,16 @@ Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOp
   }
   const CrossingSet set = detect_crossings(topo, settings);
   const auto t1 = Clock::now();
-  const std::vector<TracedContour> traced = build_contours(topo, set, options.threads);
-  Intersections result = summarize(topo, set, traced);
+  // The contours, and meanwhile the crossings and pairs of the result (each into its own slot).
+  std::vector<TracedContour> traced;
+  Intersections result;
+  run_parallel(options.threads, 2, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t part = begin; part < end; ++part) {
+      if (part == 0) traced = build_contours(topo, set, options.threads);
+      else result = summarize_crossings(topo, set);
+    }
+  });
+  add_contours(traced, result);
   const auto t2 = Clock::now();
   if (timings != nullptr) {
     timings->detect_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();

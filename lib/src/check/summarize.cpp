@@ -7,6 +7,12 @@ namespace untangle {
 
 Intersections summarize(const SceneTopology& topo, const CrossingSet& set,
                         const std::vector<TracedContour>& traced) {
+  Intersections result = summarize_crossings(topo, set);
+  add_contours(traced, result);
+  return result;
+}
+
+Intersections summarize_crossings(const SceneTopology& topo, const CrossingSet& set) {
   Intersections result;
   result.crossings.reserve(set.items.size());
   for (const RawCrossing& c : set.items) {
@@ -30,9 +36,13 @@ Intersections summarize(const SceneTopology& topo, const CrossingSet& set,
   }
   std::sort(result.triangle_pairs.begin(), result.triangle_pairs.end());
 
+  result.counts.crossings = result.crossings.size();
+  result.counts.triangle_pairs = result.triangle_pairs.size();
+  return result;
+}
+
+void add_contours(const std::vector<TracedContour>& traced, Intersections& result) {
   IntersectionCounts& counts = result.counts;
-  counts.crossings = result.crossings.size();
-  counts.triangle_pairs = result.triangle_pairs.size();
   counts.contours = traced.size();
   for (const TracedContour& t : traced) {
     const Contour& c = t.contour;
@@ -54,7 +64,6 @@ Intersections summarize(const SceneTopology& topo, const CrossingSet& set,
     else if (is(TrackType::kBI, TrackType::kBI)) ++counts.pairs_bi_bi;
     else ++counts.pairs_other;
   }
-  return result;
 }
 
 }  // namespace untangle

@@ -13,4 +13,9 @@ namespace untangle {
 Intersections summarize(const SceneTopology& topology, const CrossingSet& crossings,
                         const std::vector<TracedContour>& contours);
 
+// The two halves of summarize: the crossings and intersecting pairs (which need no contours, so
+// they can be made while the contours are built), then the contours and their counts.
+Intersections summarize_crossings(const SceneTopology& topology, const CrossingSet& crossings);
+void add_contours(const std::vector<TracedContour>& contours, Intersections& result);
+
 }  // namespace untangle

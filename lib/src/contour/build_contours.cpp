@@ -160,9 +160,8 @@ std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
       const std::uint32_t v = stack.back();
       stack.pop_back();
       for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-        const std::uint32_t e = topo.vertex_edges[i];
-        if (edge_is_cut[e]) continue;
-        const std::uint32_t w = topo.edges[e][0] == v ? topo.edges[e][1] : topo.edges[e][0];
+        if (edge_is_cut[topo.vertex_edges[i]]) continue;
+        const std::uint32_t w = topo.vertex_neighbors[i];
         if (region[w - begin] == kNone) {
           region[w - begin] = id;
           stack.push_back(w);
@@ -175,29 +174,107 @@ std::size_t flood_regions(const SceneTopology& topo, std::uint32_t mesh,
 
 namespace {
 
-// Per-thread flags of a separation test, all zero between tests (sized on first use).
+// A list of ids of which callers track the used prefix; grown geometrically, keeping its entries,
+// so that its size follows the sides actually grown rather than the mesh (memory that is
+// allocated and cleared on every call costs page faults).
+struct IdBuffer {
+  std::vector<std::uint32_t> ids;
+  std::uint32_t* room(std::size_t n) {
+    if (ids.size() < n) ids.resize(std::max(n, 2 * ids.size()));
+    return ids.data();
+  }
+};
+
+// Per-thread flags of a separation test, all zero between tests (sized on first use), and lists
+// kept for their capacity.
 struct SeparationScratch {
-  std::vector<std::uint8_t> cut;      // per edge
+  std::vector<std::uint64_t> blocked;  // a bit per entry of vertex_edges: the edge is cut
   std::vector<std::uint8_t> side_of;  // per welded vertex: 0, or 1 + the side that reached it
   std::vector<std::uint8_t> seen;     // per triangle
-  std::vector<std::uint32_t> triangles;
+  IdBuffer triangles;
+  std::vector<std::uint32_t> edges;  // the track's crossed edges
+  IdBuffer queue[2];                 // the vertices each side reached, in order
+  std::size_t reached[2] = {0, 0};   // how many of queue[s] are set
 };
+
+// Grows the two sides of a cut edge in lock step, one vertex of each in turn, never crossing a
+// cut edge. Returns the side (0 or 1) that runs out first, or -1 when the fronts meet. Each side's
+// vertices are the first scratch.reached[side] of scratch.queue[side], marked 1 + side in
+// scratch.side_of. The neighbours of a vertex are taken without data-dependent branches (whether
+// one is new or cut is not predictable): each is written at the end of the queue, which grows by
+// one only when the neighbour is new.
+int grow_sides(const SceneTopology& topo, std::uint32_t seed0, std::uint32_t seed1,
+               SeparationScratch& scratch) {
+  const std::uint32_t* edge_begin = topo.vertex_edge_begin.data();
+  const std::uint32_t* neighbors = topo.vertex_neighbors.data();
+  const std::uint64_t* blocked = scratch.blocked.data();
+  std::uint8_t* side_of = scratch.side_of.data();
+  std::uint32_t* queue[2];
+  std::size_t head[2] = {0, 0}, size[2] = {1, 1}, room[2];
+  for (int s = 0; s < 2; ++s) {
+    queue[s] = scratch.queue[s].room(64);
+    room[s] = scratch.queue[s].ids.size();
+  }
+  queue[0][0] = seed0;
+  queue[1][0] = seed1;
+  side_of[seed0] = 1;
+  side_of[seed1] = 2;
+  int finished = -1;
+  bool met = false;
+  while (!met) {
+    for (int s = 0; s < 2 && !met; ++s) {
+      if (head[s] == size[s]) {
+        finished = s;
+        break;
+      }
+      const std::uint32_t v = queue[s][head[s]++];
+      const unsigned mark = static_cast<unsigned>(s + 1), other_mark = 3 - mark;
+      std::size_t n = size[s];
+      if (n + (edge_begin[v + 1] - edge_begin[v]) + 1 > room[s]) {  // each neighbour is written
+        queue[s] = scratch.queue[s].room(n + (edge_begin[v + 1] - edge_begin[v]) + 1);
+        room[s] = scratch.queue[s].ids.size();
+      }
+      std::uint32_t* q = queue[s];
+      unsigned other = 0;
+      for (std::uint32_t i = edge_begin[v]; i < edge_begin[v + 1]; ++i) {
+        const std::uint32_t w = neighbors[i];
+        const unsigned open = static_cast<unsigned>(~blocked[i >> 6] >> (i & 63)) & 1u;
+        const unsigned was = side_of[w];
+        const unsigned fresh = open & static_cast<unsigned>(was == 0);
+        other |= open & static_cast<unsigned>(was == other_mark);
+        q[n] = w;
+        n += fresh;
+        side_of[w] = static_cast<std::uint8_t>(was | (mark & (0u - fresh)));
+      }
+      size[s] = n;
+      met = other != 0;
+    }
+    if (finished >= 0) break;
+  }
+  for (int s = 0; s < 2; ++s) scratch.reached[s] = size[s];
+  return met ? -1 : finished;
+}
 
 // The area of a side: a third of each triangle per corner in the side (`mark` in side_of). The
 // triangles around the side's vertices are listed once each, then weighted; written without
 // data-dependent branches (which side a corner lies on is not predictable), so this costs little
 // more than reading the fans.
-double side_area(const SceneTopology& topo, const std::vector<std::uint32_t>& side, std::uint8_t mark,
-                 SeparationScratch& scratch) {
+double side_area(const SceneTopology& topo, const std::uint32_t* side, std::size_t side_count,
+                 std::uint8_t mark, SeparationScratch& scratch) {
   std::vector<std::uint8_t>& seen = scratch.seen;
-  std::vector<std::uint32_t>& list = scratch.triangles;
   if (seen.empty()) seen.assign(topo.tris.size(), 0);
+  std::uint32_t* list = scratch.triangles.room(64);
+  std::size_t room = scratch.triangles.ids.size();
   std::size_t count = 0;
-  for (std::uint32_t v : side) {
+  for (std::size_t s = 0; s < side_count; ++s) {
+    const std::uint32_t v = side[s];
     for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
       const std::uint32_t e = topo.vertex_edges[i];
       const std::uint32_t first = topo.edge_face_begin[e], last = topo.edge_face_begin[e + 1];
-      if (list.size() < count + (last - first)) list.resize(2 * (count + (last - first)));
+      if (count + (last - first) + 1 > room) {  // each face is written, the new ones kept
+        list = scratch.triangles.room(count + (last - first) + 1);
+        room = scratch.triangles.ids.size();
+      }
       for (std::uint32_t k = first; k < last; ++k) {
         const std::uint32_t t = topo.edge_faces[k];
         list[count] = t;
@@ -227,7 +304,8 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
   else if (track.boundary_ends == 1) track.type = TrackType::kBI;
   else track.type = TrackType::kII;
 
-  std::vector<std::uint32_t> edges;
+  std::vector<std::uint32_t>& edges = scratch.edges;
+  edges.clear();
   for (std::size_t i = 0; i < contour.crossings.size(); ++i)
     if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
   const std::vector<std::uint32_t> odd = odd_edges(edges);
@@ -237,53 +315,35 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
     track.separates = true;
     return;
   }
-  std::vector<std::uint8_t>& cut = scratch.cut;
-  std::vector<std::uint8_t>& side_of = scratch.side_of;
-  if (cut.empty()) {
-    cut.assign(topo.edges.size(), 0);
-    side_of.assign(topo.points.size(), 0);
+  if (scratch.blocked.empty()) {
+    scratch.blocked.assign((topo.vertex_edges.size() + 63) / 64, 0);
+    scratch.side_of.assign(topo.points.size(), 0);
   }
-  for (std::uint32_t e : odd) cut[e] = 1;
-  // Grow the two sides of the first cut edge in lock step, never crossing a cut: if one side
-  // runs out first it is a separate region (the smaller side by vertex count); if the two
-  // fronts meet, the track separates nothing. Cost: the smaller side, not the mesh.
-  const std::uint32_t seeds[2] = {topo.edges[odd.front()][0], topo.edges[odd.front()][1]};
-  std::vector<std::uint32_t> queue[2] = {{seeds[0]}, {seeds[1]}};
-  std::size_t head[2] = {0, 0};
-  side_of[seeds[0]] = 1;
-  side_of[seeds[1]] = 2;
-  bool met = false;
-  int finished = -1;
-  while (!met && finished < 0) {
-    for (int s = 0; s < 2 && !met && finished < 0; ++s) {
-      if (head[s] == queue[s].size()) {
-        finished = s;
-        break;
-      }
-      const std::uint32_t v = queue[s][head[s]++];
-      const auto mark = static_cast<std::uint8_t>(s + 1);
-      for (std::uint32_t i = topo.vertex_edge_begin[v]; i < topo.vertex_edge_begin[v + 1]; ++i) {
-        const std::uint32_t e = topo.vertex_edges[i];
-        if (cut[e]) continue;
-        const std::uint32_t w = topo.edges[e][0] ^ topo.edges[e][1] ^ v;
-        if (side_of[w] == 0) {
-          side_of[w] = mark;
-          queue[s].push_back(w);
-        } else if (side_of[w] != mark) {
-          met = true;
-          break;
-        }
+  // Cut flags by entry of the vertices' edge lists, read in step with the neighbours.
+  auto block = [&](bool value) {
+    for (std::uint32_t e : odd) {
+      for (std::uint32_t v : topo.edges[e]) {
+        const auto first = topo.vertex_edges.begin() + topo.vertex_edge_begin[v];
+        const auto last = topo.vertex_edges.begin() + topo.vertex_edge_begin[v + 1];
+        const auto i = static_cast<std::size_t>(std::lower_bound(first, last, e) - topo.vertex_edges.begin());
+        const std::uint64_t bit = std::uint64_t{1} << (i & 63);
+        scratch.blocked[i >> 6] = value ? scratch.blocked[i >> 6] | bit : scratch.blocked[i >> 6] & ~bit;
       }
     }
-  }
-  if (!met && finished >= 0) {
+  };
+  block(true);
+  // Grow the two sides of the first cut edge in lock step: if one side runs out first it is a
+  // separate region (the smaller side by vertex count); if the two fronts meet, the track
+  // separates nothing. Cost: the smaller side, not the mesh.
+  const int finished = grow_sides(topo, topo.edges[odd.front()][0], topo.edges[odd.front()][1], scratch);
+  if (finished >= 0) {
     track.separates = true;
     const auto mark = static_cast<std::uint8_t>(finished + 1);
-    track.smaller_area = side_area(topo, queue[finished], mark, scratch);
+    track.smaller_area = side_area(topo, scratch.queue[finished].ids.data(), scratch.reached[finished], mark, scratch);
   }
   for (int s = 0; s < 2; ++s)
-    for (std::uint32_t v : queue[s]) side_of[v] = 0;
-  for (std::uint32_t e : odd) cut[e] = 0;
+    for (std::size_t i = 0; i < scratch.reached[s]; ++i) scratch.side_of[scratch.queue[s].ids[i]] = 0;
+  block(false);
 }
 
 }  // namespace

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
+#include "detect/run_parallel.h"
 #include "detect/triangle_bvh.h"
 
 namespace untangle {
@@ -35,33 +37,32 @@ struct Grid {
   }
 };
 
-// A vertex seen from the grid, packed in 32 bits: its cell (clamped to the grid) in bytes 0 to 2,
-// and in byte 3 on which sides of the region it lies (bit 2k: below on axis k, bit 2k + 1: above).
-// A triangle's box misses the region iff all three corners lie beyond one same side.
-std::uint32_t vertex_cell(const Grid& grid, const Vec3& p) {
+// On which sides of the region a point lies: bit 2k below it on axis k, bit 2k + 1 above. A
+// triangle's box misses the region iff all three corners lie beyond one same side.
+std::uint8_t outside_bits(const Grid& grid, const Vec3& p) {
+  unsigned bits = 0;
+  for (int k = 0; k < 3; ++k)
+    bits |= static_cast<unsigned>(p[k] < grid.region.lo[k]) << (2 * k) |
+            static_cast<unsigned>(p[k] > grid.region.hi[k]) << (2 * k + 1);
+  return static_cast<std::uint8_t>(bits);
+}
+
+// The cell of a point (clamped to the grid), packed in bytes 0 to 2.
+std::uint32_t grid_cell(const Grid& grid, const Vec3& p) {
   std::uint32_t packed = 0;
-  for (int k = 0; k < 3; ++k) {
-    const std::uint32_t outside = static_cast<std::uint32_t>(p[k] < grid.region.lo[k]) |
-                                  static_cast<std::uint32_t>(p[k] > grid.region.hi[k]) << 1;
-    packed |= static_cast<std::uint32_t>(grid.cell(p[k], k)) << (8 * k) | outside << (24 + 2 * k);
-  }
+  for (int k = 0; k < 3; ++k) packed |= static_cast<std::uint32_t>(grid.cell(p[k], k)) << (8 * k);
   return packed;
 }
 
-// Where a triangle's box lies, from its corners' packed cells.
+// Which cells a triangle's box covers, from its corners' packed cells.
 struct TriangleCells {
-  bool outside = false;  // misses the region
-  bool single = false;   // covers one cell, lo (most triangles are smaller than a cell)
+  bool single = false;  // covers one cell, lo (most triangles are smaller than a cell)
   std::array<int, 3> lo{}, hi{};
 };
 
 TriangleCells triangle_cells(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
   TriangleCells out;
-  if ((a & b & c) >> 24) {
-    out.outside = true;
-    return out;
-  }
-  out.single = (((a ^ b) | (a ^ c)) & 0xffffffu) == 0;
+  out.single = ((a ^ b) | (a ^ c)) == 0;
   for (int k = 0; k < 3; ++k) {
     const int x = static_cast<int>(a >> (8 * k) & 0xffu), y = static_cast<int>(b >> (8 * k) & 0xffu),
               z = static_cast<int>(c >> (8 * k) & 0xffu);
@@ -74,9 +75,12 @@ TriangleCells triangle_cells(std::uint32_t a, std::uint32_t b, std::uint32_t c) 
 }  // namespace
 
 std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo,
-                                                       const std::vector<bool>& cull) {
+                                                       const std::vector<bool>& cull, int threads) {
   const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
   std::vector<std::vector<std::uint32_t>> kept(meshes);
+  auto mesh_triangles = [&](std::size_t m) -> std::size_t {
+    return topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m];
+  };
   auto keep_all = [&](std::size_t m) {
     kept[m].resize(topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m]);
     for (std::size_t i = 0; i < kept[m].size(); ++i) kept[m][i] = topo.mesh_tri_begin[m] + static_cast<std::uint32_t>(i);
@@ -87,27 +91,31 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
   }
   // Each mesh's box, from its vertices (a superset of its triangles' corners). Non-finite
   // coordinates defeat the grid's rounding: then nothing is culled.
+  // The per-mesh passes run on the meshes in parallel, each writing its own slots.
   std::vector<Box3> bounds(meshes);
-  std::vector<bool> has(meshes, false);
-  for (std::size_t m = 0; m < meshes; ++m) {
-    const std::uint32_t first = topo.mesh_vertex_begin[m], last = topo.mesh_vertex_begin[m + 1];
-    if (first == last || topo.mesh_tri_begin[m] == topo.mesh_tri_begin[m + 1]) continue;
-    has[m] = true;
-    Box3& box = bounds[m];
-    box.lo = box.hi = topo.points[first];
-    double zero = 0.0;  // stays 0 iff every coordinate is finite (inf * 0 and NaN give NaN)
-    for (std::uint32_t v = first; v < last; ++v) {
-      const Vec3& p = topo.points[v];
-      for (int k = 0; k < 3; ++k) {
-        zero += p[k] * 0.0;
-        box.lo[k] = std::min(box.lo[k], p[k]);
-        box.hi[k] = std::max(box.hi[k], p[k]);
+  std::vector<std::uint8_t> has(meshes, 0), finite(meshes, 1);
+  run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t m = begin; m < end; ++m) {
+      const std::uint32_t first = topo.mesh_vertex_begin[m], last = topo.mesh_vertex_begin[m + 1];
+      if (first == last || topo.mesh_tri_begin[m] == topo.mesh_tri_begin[m + 1]) continue;
+      has[m] = 1;
+      Box3& box = bounds[m];
+      box.lo = box.hi = topo.points[first];
+      bool all_finite = true;  // a comparison, not a sum: no chain of additions to wait for
+      for (std::uint32_t v = first; v < last; ++v) {
+        const Vec3& p = topo.points[v];
+        for (int k = 0; k < 3; ++k) {
+          all_finite &= std::abs(p[k]) <= std::numeric_limits<double>::max();  // false for inf, NaN
+          box.lo[k] = std::min(box.lo[k], p[k]);
+          box.hi[k] = std::max(box.hi[k], p[k]);
+        }
       }
+      finite[m] = all_finite;
     }
-    if (zero != 0.0) {
-      for (std::size_t c = 0; c < meshes; ++c) keep_all(c);
-      return kept;
-    }
+  });
+  if (std::find(finite.begin(), finite.end(), 0) != finite.end()) {
+    for (std::size_t c = 0; c < meshes; ++c) keep_all(c);
+    return kept;
   }
   for (std::size_t m = 0; m < meshes; ++m)
     if (!cull[m]) keep_all(m);
@@ -137,50 +145,91 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
       grid.scale[k] = grid.dims[k] / extent;
     }
   }
-  // The cell of every vertex of a mesh that reaches the region.
-  std::vector<bool> near(meshes, false);
-  std::vector<std::uint32_t> vertex(topo.points.size());
-  for (std::size_t m = 0; m < meshes; ++m) {
-    near[m] = has[m] && bounds[m].overlaps(grid.region);
-    if (!near[m]) continue;
-    for (std::uint32_t v = topo.mesh_vertex_begin[m]; v < topo.mesh_vertex_begin[m + 1]; ++v)
-      vertex[v] = vertex_cell(grid, topo.points[v]);
-  }
-  auto cells_of = [&](std::uint32_t t) {
+  // Which sides of the region every vertex of a mesh that reaches it lies beyond (six
+  // comparisons); the region test of a triangle needs nothing more.
+  std::vector<std::uint8_t> near(meshes, 0);
+  std::vector<std::uint8_t> outside(topo.points.size());
+  auto in_region = [&](std::uint32_t t) {
     const auto& tri = topo.tris[t];
-    return triangle_cells(vertex[tri[0]], vertex[tri[1]], vertex[tri[2]]);
+    return (outside[tri[0]] & outside[tri[1]] & outside[tri[2]]) == 0;
   };
-  // First the region alone: culled meshes keep the triangles whose box reaches it.
-  std::size_t largest = meshes;  // the culled mesh with the most triangles left
+  // Those sides for the meshes that reach the region, and how many of their vertices lie inside.
+  std::vector<std::size_t> inside(meshes, 0);
+  run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t m = begin; m < end; ++m) {
+      near[m] = has[m] && bounds[m].overlaps(grid.region);
+      if (!near[m]) continue;
+      std::size_t count = 0;
+      for (std::uint32_t v = topo.mesh_vertex_begin[m]; v < topo.mesh_vertex_begin[m + 1]; ++v) {
+        outside[v] = outside_bits(grid, topo.points[v]);
+        count += outside[v] == 0;
+      }
+      inside[m] = count;
+    }
+  });
+  // The grid serves the culled mesh with the most vertices in the region (`largest`): the cells
+  // that the boxes of every other mesh's triangles in the region cover are marked, and it keeps
+  // its triangles in the region that cover a marked cell. (Marking with the large mesh to cull the
+  // small ones would cost more than it saves.) Its region test is made in the same pass as the
+  // grid's; the other culled meshes keep the triangles whose box reaches the region.
+  std::size_t largest = meshes;
   for (std::size_t m = 0; m < meshes; ++m) {
     if (!cull[m] || !near[m]) continue;
-    for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t)
-      if (!cells_of(t).outside) kept[m].push_back(t);
-    if (largest == meshes || kept[m].size() > kept[largest].size()) largest = m;
+    if (largest == meshes || inside[m] > inside[largest]) largest = m;
   }
-  if (largest == meshes || kept[largest].empty()) return kept;
-  // Then the grid, for the culled mesh with the most triangles left: mark the cells that the
-  // boxes of every other mesh's triangles in the region cover; keep its triangles that cover a
-  // marked cell. (Marking with the large mesh to cull the small ones would cost more than it
-  // saves: they keep their triangles in the region.)
-  std::vector<std::uint8_t> marked(static_cast<std::size_t>(grid.dims[0]) * grid.dims[1] * grid.dims[2], 0);
+  if (largest == meshes) return kept;
+  auto region_pass = [&](std::size_t m) {
+    kept[m].reserve(mesh_triangles(m));
+    for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t)
+      if (in_region(t)) kept[m].push_back(t);
+  };
+  run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t m = begin; m < end; ++m)
+      if (near[m] && cull[m] && m != largest) region_pass(m);
+  });
+  // Cells are computed per corner where a mesh has few triangles to visit, else once per vertex.
+  std::vector<std::uint32_t> cell(topo.points.size());
+  auto cells_of = [&](std::uint32_t t, bool stored) {
+    const auto& tri = topo.tris[t];
+    if (stored) return triangle_cells(cell[tri[0]], cell[tri[1]], cell[tri[2]]);
+    return triangle_cells(grid_cell(grid, topo.points[tri[0]]), grid_cell(grid, topo.points[tri[1]]),
+                          grid_cell(grid, topo.points[tri[2]]));
+  };
+  auto store_cells = [&](std::size_t m) {
+    for (std::uint32_t v = topo.mesh_vertex_begin[m]; v < topo.mesh_vertex_begin[m + 1]; ++v)
+      cell[v] = grid_cell(grid, topo.points[v]);
+  };
+  // `near_marked`: the marked cells grown by one cell on every side. A triangle whose box spans
+  // at most two cells per axis can only meet a marked cell when each of its corners lies in a
+  // cell near one, so a byte per corner rules out most triangles before their boxes are formed.
+  const std::size_t cells = static_cast<std::size_t>(grid.dims[0]) * grid.dims[1] * grid.dims[2];
+  std::vector<std::uint8_t> marked(cells, 0), near_marked(cells, 0);
   std::size_t budget = kCellsPerTriangle * topo.tris.size();
+  auto fill = [&](std::vector<std::uint8_t>& grid_cells, const std::array<int, 3>& lo, const std::array<int, 3>& hi) {
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x) grid_cells[grid.index(x, y, z)] = 1;
+  };
   for (std::size_t m = 0; m < meshes; ++m) {
     if (m == largest || !near[m]) continue;
+    const std::size_t vertices = topo.mesh_vertex_begin[m + 1] - topo.mesh_vertex_begin[m];
+    const std::size_t visits = cull[m] ? kept[m].size() : topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m];
+    const bool stored = 3 * visits > vertices;
+    if (stored) store_cells(m);
     auto mark = [&](std::uint32_t t) {
-      const TriangleCells box = cells_of(t);
-      if (box.outside) return true;
-      if (box.single) {
-        marked[grid.index(box.lo[0], box.lo[1], box.lo[2])] = 1;
-        return true;
+      if (!in_region(t)) return true;
+      const TriangleCells box = cells_of(t, stored);
+      std::array<int, 3> lo, hi;
+      std::size_t covered = 1;
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::max(box.lo[k] - 1, 0);
+        hi[k] = std::min(box.hi[k] + 1, grid.dims[k] - 1);
+        covered *= static_cast<std::size_t>(hi[k] - lo[k] + 1);
       }
-      const std::size_t covered = static_cast<std::size_t>(box.hi[0] - box.lo[0] + 1) *
-                                  (box.hi[1] - box.lo[1] + 1) * (box.hi[2] - box.lo[2] + 1);
       if (covered > budget) return false;
       budget -= covered;
-      for (int z = box.lo[2]; z <= box.hi[2]; ++z)
-        for (int y = box.lo[1]; y <= box.hi[1]; ++y)
-          for (int x = box.lo[0]; x <= box.hi[0]; ++x) marked[grid.index(x, y, z)] = 1;
+      fill(marked, box.lo, box.hi);
+      fill(near_marked, lo, hi);
       return true;
     };
     bool within = true;
@@ -190,21 +239,38 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
       for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1] && within; ++t)
         within = mark(t);
     }
-    if (!within) return kept;  // huge triangles: the region alone decides
+    if (!within) {  // huge triangles: the region alone decides
+      region_pass(largest);
+      return kept;
+    }
+  }
+  std::vector<std::uint8_t> corner_near(topo.points.size());
+  for (std::uint32_t v = topo.mesh_vertex_begin[largest]; v < topo.mesh_vertex_begin[largest + 1]; ++v) {
+    const std::uint32_t c = grid_cell(grid, topo.points[v]);
+    cell[v] = c;
+    corner_near[v] = near_marked[grid.index(c & 0xff, c >> 8 & 0xff, c >> 16 & 0xff)];
   }
   std::vector<std::uint32_t>& list = kept[largest];
-  std::size_t out = 0;
-  for (std::uint32_t t : list) {
-    const TriangleCells box = cells_of(t);
-    bool meets = marked[grid.index(box.lo[0], box.lo[1], box.lo[2])] != 0;
-    if (!box.single) {
+  for (std::uint32_t t = topo.mesh_tri_begin[largest]; t < topo.mesh_tri_begin[largest + 1]; ++t) {
+    const auto& tri = topo.tris[t];
+    if (!in_region(t)) continue;
+    const bool near_all = (corner_near[tri[0]] & corner_near[tri[1]] & corner_near[tri[2]]) != 0;
+    const TriangleCells box = cells_of(t, true);
+    bool meets = false;
+    if (box.hi[0] - box.lo[0] <= 1 && box.hi[1] - box.lo[1] <= 1 && box.hi[2] - box.lo[2] <= 1) {
+      if (!near_all) continue;
+      // At most two cells per axis (most triangles): the box's cells are the combinations of lo
+      // and hi, read without branches.
+      for (int k = 0; k < 8; ++k)
+        meets |= marked[grid.index(k & 1 ? box.hi[0] : box.lo[0], k & 2 ? box.hi[1] : box.lo[1],
+                                   k & 4 ? box.hi[2] : box.lo[2])] != 0;
+    } else {
       for (int z = box.lo[2]; z <= box.hi[2] && !meets; ++z)
         for (int y = box.lo[1]; y <= box.hi[1] && !meets; ++y)
           for (int x = box.lo[0]; x <= box.hi[0] && !meets; ++x) meets = marked[grid.index(x, y, z)] != 0;
     }
-    if (meets) list[out++] = t;
+    if (meets) list.push_back(t);
   }
-  list.resize(out);
   return kept;
 }
 

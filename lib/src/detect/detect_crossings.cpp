@@ -61,40 +61,13 @@ void test_owned_edges(const SceneTopology& topo, std::uint32_t t, std::uint32_t 
   }
 }
 
-// Exact filtered orientation without perturbation (0 when exactly coplanar).
+// Exact filtered orientation without perturbation (0 when exactly coplanar). Planes normal to an
+// axis go through AxisPlane instead.
 int orient_exact(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t b, std::uint32_t c,
                  std::uint32_t d) {
-  // Four points with one coordinate equal (bit for bit) lie in a plane normal to that axis: the
-  // difference vectors have an exact zero component, so the determinant is exactly 0. This is the
-  // answer CGAL would reach too, but only after its floating-point filter fails on the exact zero
-  // and interval arithmetic takes over; flat sheets ask it for nearly every neighbouring pair.
-  for (int k = 0; k < 3; ++k) {
-    const double x = points[a][k];
-    if (points[b][k] == x && points[c][k] == x && points[d][k] == x) return 0;
-  }
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   auto p = [&](std::uint32_t i) { return K::Point_3(points[i][0], points[i][1], points[i][2]); };
   return static_cast<int>(CGAL::orientation(p(a), p(b), p(c), p(d)));
-}
-
-int orient_2d(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
-  // Three points on a line parallel to an axis: exactly collinear (as in orient_exact).
-  if ((a[i] == b[i] && a[i] == c[i]) || (a[j] == b[j] && a[j] == c[j])) return 0;
-  // Shewchuk's floating-point filter (orient2d, error bound A): the determinant's sign is certain
-  // when it exceeds (3 + 16 eps) eps times the sum of the magnitudes of its two products. Inline,
-  // without building points; CGAL's filtered predicate decides the rest exactly. Magnitudes near
-  // the underflow range, where the bound does not hold, go to CGAL too.
-  const double left = (a[i] - c[i]) * (b[j] - c[j]);
-  const double right = (a[j] - c[j]) * (b[i] - c[i]);
-  const double det = left - right;
-  const double sum = std::abs(left) + std::abs(right);
-  const double bound = 3.3306690738754716e-16 * sum;
-  if (sum > 1e-280 && det > bound) return 1;
-  if (sum > 1e-280 && -det > bound) return -1;
-  return static_cast<int>(CGAL::orientation(K::Point_2(a[i], a[j]), K::Point_2(b[i], b[j]),
-                                            K::Point_2(c[i], c[j])));
 }
 
 // Whether triangles t and u (sharing at most one vertex) provably yield no crossing under every
@@ -111,19 +84,27 @@ bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t,
                      const std::array<std::uint32_t, 3>& b, PairSides& sides) {
   auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const std::array<std::uint32_t, 3>& other,
                       bool& coplanar, std::array<int, 3>& side) {
-    // A plane normal to an axis (flat sheets: nearly every plane) leaves the filter nothing to
-    // decide: orient_exact finds its exact zeros at once. Other planes try the filter first.
+    // A plane normal to an axis (flat sheets: nearly every plane) is decided exactly by one
+    // comparison per point (AxisPlane). Other planes try the filter first.
     const Vec3 &p0 = P[plane[0]], &p1 = P[plane[1]], &p2 = P[plane[2]];
-    bool flat = false;
-    for (int k = 0; k < 3; ++k) flat = flat || (p0[k] == p1[k] && p0[k] == p2[k]);
+    int axis = -1;
+    for (int k = 2; k >= 0; --k)
+      if (p0[k] == p1[k] && p0[k] == p2[k]) axis = k;
     std::optional<PlaneFilter> filter;
-    if (!flat) filter.emplace(p0, p1, p2);
+    std::optional<AxisPlane> flat;
+    if (axis >= 0) flat.emplace(p0, p1, p2, axis);
+    else filter.emplace(p0, p1, p2);
     int pos = 0, neg = 0, zero = 0;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = other[k];
       if (contains(plane, v)) continue;
-      int o = filter ? filter->side(P[v]) : 0;
-      if (o == 0) o = orient_exact(P, plane[0], plane[1], plane[2], v);
+      int o = 0;
+      if (flat) {
+        o = flat->side(P[v]);
+      } else {
+        o = filter->side(P[v]);
+        if (o == 0) o = orient_exact(P, plane[0], plane[1], plane[2], v);
+      }
       side[k] = o;
       pos += o > 0;
       neg += o < 0;
@@ -257,7 +238,7 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
   std::vector<bool> cull(meshes);
   for (std::size_t m = 0; m < meshes; ++m)
     cull[m] = (!settings.self_pairs || skipped(m)) && !(skipped(m) && settings.skipped_bvh != nullptr);
-  const std::vector<std::vector<std::uint32_t>> kept = cull_triangles(topo, cull);
+  const std::vector<std::vector<std::uint32_t>> kept = cull_triangles(topo, cull, settings.threads);
   // One hierarchy per mesh, built in parallel (each into its own slot: the same trees for every
   // thread count).
   run_parallel(settings.threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
@@ -267,6 +248,10 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
     }
   });
   std::vector<std::array<std::uint32_t, 2>> pairs;
+  std::size_t indexed = 0;  // a first guess at the number of pairs, to grow the list less often
+  for (const auto& tree : per_mesh)
+    if (tree) indexed += tree->size();
+  pairs.reserve(2 * indexed);
   auto add = [&](std::uint32_t t, std::uint32_t u) { pairs.push_back({std::min(t, u), std::max(t, u)}); };
   for (std::size_t a = 0; a < meshes; ++a) {
     if (skipped(a)) continue;

@@ -140,6 +140,12 @@ int orient_symbolic(const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& 
   return orient_perturbed(pa, pb, pc, pd, a, b, c, d, false);
 }
 
+int orient_2d_exact(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
+  const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
+  return static_cast<int>(CGAL::orientation(Kernel::Point_2(a[i], a[j]), Kernel::Point_2(b[i], b[j]),
+                                            Kernel::Point_2(c[i], c[j])));
+}
+
 int orient_sos(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t b,
                std::uint32_t c, std::uint32_t d) {
   const Vec3& pa = points[a];

@@ -52,6 +52,52 @@ inline int orient_filtered(const Vec3& a, const Vec3& b, const Vec3& c, const Ve
   return PlaneFilter(a, b, c).side(d);
 }
 
+// Exact sign of the orientation of a, b, c projected along axis `drop` onto the other two axes
+// (i, j) in increasing order: +1 when (a, b, c) turns counter-clockwise in (i, j), as
+// CGAL::orientation of the projected points; 0 when collinear there. Three points on a line
+// parallel to an axis are collinear without arithmetic; then Shewchuk's orient2d filter (error
+// bound A: (3 + 16 eps) eps times the sum of the magnitudes of the two products) decides inline,
+// without building points, and CGAL's filtered predicate the rest (orient_2d_exact). Magnitudes
+// near the underflow range, where the bound does not hold, go to CGAL too.
+int orient_2d_exact(const Vec3& a, const Vec3& b, const Vec3& c, int drop);
+inline int orient_2d(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
+  const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
+  if ((a[i] == b[i] && a[i] == c[i]) || (a[j] == b[j] && a[j] == c[j])) return 0;
+  const double left = (a[i] - c[i]) * (b[j] - c[j]);
+  const double right = (a[j] - c[j]) * (b[i] - c[i]);
+  const double det = left - right;
+  const double sum = std::abs(left) + std::abs(right);
+  const double bound = 3.3306690738754716e-16 * sum;
+  if (sum > 1e-280 && det > bound) return 1;
+  if (sum > 1e-280 && -det > bound) return -1;
+  return orient_2d_exact(a, b, c, drop);
+}
+
+// The exact side of points with respect to a plane normal to an axis: a, b, c have the same
+// coordinate `axis` (bit for bit). Then det[b-a, c-a, d-a] = (d-a)[axis] * (the axis component of
+// (b-a) x (c-a)), so side(d) is CGAL::orientation(a, b, c, d) from one comparison, with the
+// triangle's turn in the plane decided once, when a first point off the plane asks (orient_2d;
+// points in the plane, as for neighbours in a flat sheet, need no turn). Flat sheets make nearly
+// every plane one of these; CGAL's filter would fall back to interval arithmetic on the exact
+// zeros of the minors. The corners must outlive the object; not for use by several threads.
+class AxisPlane {
+ public:
+  AxisPlane(const Vec3& a, const Vec3& b, const Vec3& c, int axis)
+      : a_(a), b_(b), c_(c), level_(a[axis]), axis_(axis) {}
+  int side(const Vec3& d) const {
+    if (d[axis_] == level_) return 0;
+    if (turn_ == kUnknown) turn_ = orient_2d(a_, b_, c_, axis_) * (axis_ == 1 ? -1 : 1);
+    return d[axis_] > level_ ? turn_ : -turn_;
+  }
+
+ private:
+  static constexpr int kUnknown = 2;
+  const Vec3 &a_, &b_, &c_;
+  double level_;
+  int axis_;
+  mutable int turn_ = kUnknown;  // sign of the axis component of (b-a) x (c-a)
+};
+
 // The perturbed sign alone (exact arithmetic throughout): exposed for tests.
 int orient_symbolic(const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& pd,
                     std::uint32_t a, std::uint32_t b, std::uint32_t c, std::uint32_t d);

@@ -142,10 +142,14 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
     topo.vertex_edge_begin[v + 1] += topo.vertex_edge_begin[v];
   }
   topo.vertex_edges.resize(topo.vertex_edge_begin.back());
+  topo.vertex_neighbors.resize(topo.vertex_edge_begin.back());
   std::vector<std::uint32_t> fill(topo.vertex_edge_begin.begin(), topo.vertex_edge_begin.end() - 1);
   for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
-    topo.vertex_edges[fill[topo.edges[e][0]]++] = e;
-    topo.vertex_edges[fill[topo.edges[e][1]]++] = e;
+    const std::uint32_t a = topo.edges[e][0], b = topo.edges[e][1];
+    topo.vertex_edges[fill[a]] = e;
+    topo.vertex_neighbors[fill[a]++] = b;
+    topo.vertex_edges[fill[b]] = e;
+    topo.vertex_neighbors[fill[b]++] = a;
   }
   // Components: union-find over triangle corners, then numbered by lowest vertex.
   std::vector<std::uint32_t> parent(topo.points.size());

@@ -43,9 +43,11 @@ struct SceneTopology {
   std::vector<std::uint32_t> component_mesh;
   std::uint32_t tri_component(std::uint32_t t) const { return vertex_component[tris[t][0]]; }
 
-  // vertex -> incident edges, CSR
+  // vertex -> incident edges, CSR, ascending; vertex_neighbors[i] is the other end of
+  // vertex_edges[i] (floods read it in sequence instead of looking the edge up)
   std::vector<std::uint32_t> vertex_edge_begin;  // size points+1
   std::vector<std::uint32_t> vertex_edges;
+  std::vector<std::uint32_t> vertex_neighbors;
 
   std::size_t edge_face_count(std::uint32_t e) const {
     return edge_face_begin[e + 1] - edge_face_begin[e];
