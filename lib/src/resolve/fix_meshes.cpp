@@ -507,12 +507,12 @@ class Solver {
 
   // A contour of a component with itself (a fold through the cloth, a hem's inner layer pushed
   // through its outer layer): the illegal side next to each track, by the component's labels,
-  // may move across the sheet of the other track. Every side is measured (TrialMove) against the narrow sheet (the other track's faces at the
-  // crossings grown by two rings, the side's own vertices left out) and, when that leaves crossings
-  // of this contour, once per step against the wide one (every vertex nearer to the other track
-  // than to this side): a side reaching beyond the narrow sheet (a flap of a finely subdivided
-  // sheet diving far through its base) finds its closest points on the sheet's rim and would
-  // collapse onto it. The move that removes most is made. When none helps, the per-crossing rule
+  // may move across the sheet of the other track. Every side is measured (TrialMove) against the
+  // narrow sheet (the other track's faces at the crossings grown by two rings, the side's own
+  // vertices left out) and, when that leaves crossings of this contour, once per step against the
+  // wide one (every vertex nearer to the other track than to this side): a side reaching beyond
+  // the narrow sheet (a flap of a finely subdivided sheet diving far through its base) finds its
+  // closest points on the sheet's rim and would collapse onto it. The move that removes most is made. When none helps, the per-crossing rule
   // acts; when nothing could be measured (the step's budget is spent), the smaller side moves.
   void self_contour_move(const CrossingSet& set, const TracedContour& traced,
                          const RegionAnalysis& analysis, std::vector<std::uint8_t>& in_moving_set,
@@ -603,6 +603,7 @@ class Solver {
     const long long all = static_cast<long long>(c.crossings.size());
     for (Side& side : sides) side.narrow = sheet(side, 2, nullptr);
     const std::vector<Candidate> candidates = candidates_of(false);
+    if (candidates.empty()) return;  // every side's vertices already move in this step
     Choice chosen = measured_choice(set, candidates);
     if (chosen.gain < all && !wide_tried_) {
       wide_tried_ = true;
