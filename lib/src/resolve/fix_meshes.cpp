@@ -420,8 +420,7 @@ class Solver {
       for (std::size_t i = ring_start; i < ring_end; ++i) {
         const std::uint32_t v = members[i];
         for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
-          const auto& e = topo_.edges[topo_.vertex_edges[j]];
-          add(e[0] == v ? e[1] : e[0]);
+          add(topo_.vertex_neighbors[j]);
         }
       }
       ring_start = ring_end;
@@ -456,8 +455,7 @@ class Solver {
       std::vector<std::uint32_t> next;
       for (std::uint32_t v : front)
         for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
-          const auto& e = topo_.edges[topo_.vertex_edges[j]];
-          const std::uint32_t w = e[0] == v ? e[1] : e[0];
+          const std::uint32_t w = topo_.vertex_neighbors[j];
           if (d[w - base] > ring) {
             d[w - base] = ring;
             next.push_back(w);
@@ -549,8 +547,7 @@ class Solver {
       for (std::size_t i = 0; i < side.size(); ++i) {
         const std::uint32_t v = side[i];
         for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
-          const auto& e = topo_.edges[topo_.vertex_edges[j]];
-          const std::uint32_t w = e[0] == v ? e[1] : e[0];
+          const std::uint32_t w = topo_.vertex_neighbors[j];
           if (illegal[w - base] == 1 && !seen[w - base]) {
             seen[w - base] = 1;
             side.push_back(w);
@@ -752,8 +749,7 @@ class Solver {
       for (std::size_t i = 0; i < part.size(); ++i) {
         const std::uint32_t v = part[i];
         for (std::uint32_t k = topo_.vertex_edge_begin[v]; k < topo_.vertex_edge_begin[v + 1]; ++k) {
-          const auto& e = topo_.edges[topo_.vertex_edges[k]];
-          const std::uint32_t w = e[0] == v ? e[1] : e[0];
+          const std::uint32_t w = topo_.vertex_neighbors[k];
           if (member[w] && !seen[w]) {
             seen[w] = 1;
             part.push_back(w);
@@ -985,8 +981,7 @@ class Solver {
           for (std::size_t i = 0; i < flap.size() && !too_large; ++i) {
             const std::uint32_t v = flap[i];
             for (std::uint32_t e = topo_.vertex_edge_begin[v]; e < topo_.vertex_edge_begin[v + 1]; ++e) {
-              const auto& edge = topo_.edges[topo_.vertex_edges[e]];
-              const std::uint32_t w = edge[0] == v ? edge[1] : edge[0];
+              const std::uint32_t w = topo_.vertex_neighbors[e];
               if (seen.count(w)) continue;
               seen[w] = true;
               if (std::find(t.loop_vertex_ids.begin(), t.loop_vertex_ids.end(), w) !=
