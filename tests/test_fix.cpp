@@ -101,7 +101,7 @@ TEST_P(FixScene, EndsCleanOnTheWrittenFiles) {
     EXPECT_TRUE(report["displacement"].contains(key)) << key;
   for (const char* key : {"resolve", "write"}) EXPECT_TRUE(report["timing_ms"].contains(key)) << key;
   const auto& first = report["history"][0];
-  for (const char* key : {"iteration", "crossings", "contour_length", "elapsed_ms"})
+  for (const char* key : {"iteration", "crossings", "contour_length", "elapsed_ms", "stage"})
     EXPECT_TRUE(first.contains(key)) << key;
 }
 

@@ -146,6 +146,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
     h["crossings"] = r.crossings;
     h["contour_length"] = r.contour_length;
     h["elapsed_ms"] = r.elapsed_ms;
+    h["stage"] = r.stage;
     history.push_back(h);
   }
   j["history"] = history;

@@ -14,6 +14,7 @@
 #include <map>
 #include <memory>
 #include <set>
+#include <unordered_set>
 
 #include "check/summarize.h"
 #include "contour/build_contours.h"
@@ -191,6 +192,7 @@ class Solver {
       record.crossings = counts.crossings;
       record.contour_length = counts.contour_length;
       record.elapsed_ms = ms(start, Clock::now());
+      record.stage = pieces_ ? 2 : 1;
       result.history.push_back(record);
       result.iterations = iteration;
       if (progress && !progress(record)) break;
@@ -207,6 +209,7 @@ class Solver {
         best_length = std::min(best_length, counts.contour_length);
         since_best = 0;
       } else if (++since_best >= options_.stall_iterations) {
+        if (escalate(traced, hierarchy, since_best)) continue;
         result.stalled = true;
         break;
       }
@@ -222,6 +225,7 @@ class Solver {
       result.resolve_ms += ms(t2, Clock::now());
       result.displace_ms = result.resolve_ms - result.regions_ms;
       if (!moved) {
+        if (escalate(traced, hierarchy, since_best)) continue;
         result.stalled = true;
         break;
       }
@@ -245,6 +249,23 @@ class Solver {
   }
 
  private:
+  // The second stage, once: when the run stalls with a self contour left, it goes back to the
+  // best state so far and goes on with each track's own pieces as further candidate sides of the
+  // self contours (self_contour_move). Only the best state is ever written, so the second stage
+  // can cost time but never leave more crossings than the first.
+  bool escalate(const std::vector<TracedContour>& traced, std::unique_ptr<SceneHierarchy>& hierarchy,
+                int& since_best) {
+    if (pieces_ || best_points_.empty()) return false;
+    const bool self = std::any_of(traced.begin(), traced.end(),
+                                  [](const TracedContour& t) { return t.contour.self; });
+    if (!self) return false;
+    pieces_ = true;
+    topo_.points = start_points_;
+    hierarchy.reset();  // positions jumped: the next detection is a full one
+    since_best = 0;
+    return true;
+  }
+
   // One displacement step. Returns false when nothing could move.
   bool step(const CrossingSet& set, const std::vector<TracedContour>& traced, FixResult& result) {
     const auto regions_start = Clock::now();
@@ -303,7 +324,9 @@ class Solver {
           for (std::uint32_t v : topo_.tris[x.face]) covered = covered || in_moving_set[v];
         }
       }
-      if (covered) continue;
+      // The second stage makes only measured moves on self contours: on a finely subdivided fold
+      // the per-crossing rule's shear is what tangles it further.
+      if (covered || (pieces_ && c.self)) continue;
       crossing_moves(set, t, analysis, moves);
     }
 
@@ -490,6 +513,64 @@ class Solver {
     return out;
   }
 
+  // The pieces of a self contour's track k: its crossing edges cut the component, and the
+  // vertices reachable from their endpoints on one side of the other track's faces, without
+  // crossing a cut edge or passing a loop vertex, form a piece when they never reach the other
+  // side's endpoints and stay within `limit` vertices. Unlike the labels (which combine every
+  // contour of the component), a piece follows this track alone: where two self contours cross, the
+  // labels split a flap into slivers and the piece is still the whole flap. Each ascending.
+  std::vector<std::vector<std::uint32_t>> track_pieces(const CrossingSet& set, const TracedContour& t,
+                                                       int k, std::size_t limit) const {
+    const Contour& c = t.contour;
+    std::vector<std::uint32_t> cut;
+    std::vector<std::uint32_t> seeds[2];
+    for (std::size_t i = 0; i < c.crossings.size(); ++i) {
+      if (t.edge_track[i] != k) continue;
+      const RawCrossing& x = set.items[c.crossings[i]];
+      const auto& f = topo_.tris[x.face];
+      cut.push_back(x.edge);
+      for (std::uint32_t v : topo_.edges[x.edge]) {
+        if (v == f[0] || v == f[1] || v == f[2]) continue;
+        seeds[orient_sos(topo_.points, f[0], f[1], f[2], v) > 0 ? 0 : 1].push_back(v);
+      }
+    }
+    std::sort(cut.begin(), cut.end());
+    auto is_loop = [&](std::uint32_t v) {
+      return std::find(t.loop_vertex_ids.begin(), t.loop_vertex_ids.end(), v) != t.loop_vertex_ids.end();
+    };
+    std::vector<std::vector<std::uint32_t>> out;
+    for (int s = 0; s < 2; ++s) {
+      std::unordered_set<std::uint32_t> other(seeds[1 - s].begin(), seeds[1 - s].end());
+      std::unordered_set<std::uint32_t> seen;
+      std::vector<std::uint32_t> piece;
+      bool ok = true;
+      for (std::uint32_t v : seeds[s]) {
+        if (other.count(v) || is_loop(v)) {
+          ok = false;  // an endpoint on both sides: the cut separates nothing here
+          break;
+        }
+        if (seen.insert(v).second) piece.push_back(v);
+      }
+      for (std::size_t i = 0; ok && i < piece.size(); ++i) {
+        const std::uint32_t v = piece[i];
+        for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+          const std::uint32_t w = topo_.vertex_neighbors[j];
+          if (std::binary_search(cut.begin(), cut.end(), topo_.vertex_edges[j]) || is_loop(w)) continue;
+          if (!seen.insert(w).second) continue;
+          if (other.count(w) || piece.size() >= limit) {
+            ok = false;  // the piece leaks round the track's end, or is a side of the surface
+            break;
+          }
+          piece.push_back(w);
+        }
+      }
+      if (!ok || piece.empty()) continue;
+      std::sort(piece.begin(), piece.end());
+      out.push_back(std::move(piece));
+    }
+    return out;
+  }
+
   // Vertices of `mesh` (indexed v - the mesh's first vertex) on this side of a self contour for
   // the wide patch: this side's corners `own` and every vertex nearer (in rings) to them than to
   // the other track's corners `others`, counted up to `rings`.
@@ -559,6 +640,18 @@ class Solver {
       double area = 0.0;
       for (std::uint32_t v : side) area += vertex_edge_[v] * vertex_edge_[v];
       sides.push_back({k, std::move(side), area, nullptr, nullptr});
+    }
+    if (pieces_) {
+      // The second stage: each track's own pieces, as further sides.
+      const std::size_t limit = std::min(kMeasuredVertices, component_size_[component] / 2);
+      for (int k = 0; k < 2; ++k)
+        for (std::vector<std::uint32_t>& piece : track_pieces(set, traced, k, limit)) {
+          if (std::any_of(sides.begin(), sides.end(), [&](const Side& s) { return s.vertices == piece; }))
+            continue;
+          double area = 0.0;
+          for (std::uint32_t v : piece) area += vertex_edge_[v] * vertex_edge_[v];
+          sides.push_back({k, std::move(piece), area, nullptr, nullptr});
+        }
     }
     if (sides.empty()) return;
 
@@ -1296,6 +1389,7 @@ class Solver {
   std::unique_ptr<TrialMove> trial_;
   std::size_t trial_budget_ = 0;  // triangles measured moves may still touch in this step
   bool wide_tried_ = false;       // a wide patch was built in this step
+  bool pieces_ = false;           // the second stage (escalate): track pieces are candidates
   std::vector<std::uint8_t> member_, seen_;  // part_moves' scratch, per welded vertex, all zero
   std::vector<std::uint8_t> measured_;       // per welded vertex: taken by a measured move this step
   std::vector<std::uint32_t> measured_list_;
