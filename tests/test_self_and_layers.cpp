@@ -304,14 +304,13 @@ TEST_P(SelfWicke, EndsWithZeroCrossings) {
       break;
   }
 
-  // Configurations fix does not resolve yet (issue 4 is open: a flap diving through its base
-  // across the base's edge subdivided 4 times, two crossing flaps subdivided 4 times). The
-  // configuration checks above still run; the repair is skipped with a visible reason so the suite
-  // reports them instead of hiding them; UNTANGLE_ALL_WICKE=1 runs their repair too (to see which
-  // of them a change resolves). Two crossing flaps subdivided twice resolve in the second stage
-  // (each track's own pieces, after the first stalls).
-  static const std::set<std::string> kOpen = {"boundary_interior_subdivided4",
-                                              "crossing_contours_subdivided4"};
+  // Configurations fix does not resolve yet (issue 4 is open: two crossing flaps subdivided 4
+  // times). The configuration checks above still run; the repair is skipped with a visible reason
+  // so the suite reports them instead of hiding them; UNTANGLE_ALL_WICKE=1 runs their repair too
+  // (to see which of them a change resolves). Two crossing flaps subdivided twice and the flap
+  // diving across the base's edge subdivided 4 times resolve in the second stage, after the first
+  // stalls.
+  static const std::set<std::string> kOpen = {"crossing_contours_subdivided4"};
   if (std::getenv("UNTANGLE_ALL_WICKE") == nullptr && kOpen.count(variant_name(variant)) > 0) {
     GTEST_SKIP() << "issue 4 open: fix does not resolve " << variant_name(variant) << " yet";
   }
@@ -322,12 +321,11 @@ TEST_P(SelfWicke, EndsWithZeroCrossings) {
 INSTANTIATE_TEST_SUITE_P(SelfConfigurations, SelfWicke, ::testing::ValuesIn(wicke_variants()),
                          [](const auto& info) { return variant_name(info.param); });
 
-// Two crossing flaps subdivided twice stall in the first stage (the labels of both self contours
-// together split each flap into slivers) and resolve in the second, which starts again from the
-// input with each track's own pieces. The history shows both stages, the second beginning with
-// the input's count, and the first stage's best is worse than the final clean state.
-TEST(SelfSecondStage, CrossingFlapsResolveFromTheInputAgain) {
-  std::vector<Mesh> meshes{variant_mesh({scenes::WickeCase::kCrossing, 2, false})};
+// Scenes the first stage leaves with crossings and the second, which starts again from the input,
+// resolves. The history shows both stages, the second beginning with the input's count, and the
+// first stage's best is worse than the final clean state.
+void expect_second_stage_resolves(const WickeVariant& variant) {
+  std::vector<Mesh> meshes{variant_mesh(variant)};
   const Fixed fixed = fix_and_redetect(meshes);
   expect_clean(fixed);
   const std::vector<IterationRecord>& history = fixed.result.history;
@@ -343,6 +341,17 @@ TEST(SelfSecondStage, CrossingFlapsResolveFromTheInputAgain) {
   EXPECT_GT(first_best, 0u) << "the first stage alone resolves it: the test no longer shows the second";
   EXPECT_TRUE(std::is_sorted(history.begin(), history.end(),
                              [](const IterationRecord& a, const IterationRecord& b) { return a.stage < b.stage; }));
+}
+
+TEST(SelfSecondStage, CrossingFlapsResolveFromTheInputAgain) {
+  expect_second_stage_resolves({scenes::WickeCase::kCrossing, 2, false});
+}
+
+// A flap diving across its base's edge, subdivided 4 times: the first stage leaves slivers where
+// the flap's part beyond the edge holds its triangles through the edge. In the second stage that
+// part belongs to the flap (side of the closest face's plane) and is reflected across the plane.
+TEST(SelfSecondStage, FlapBeyondTheBaseEdgeTurnsRoundIt) {
+  expect_second_stage_resolves({scenes::WickeCase::kBoundaryInterior, 4, false});
 }
 
 // ---- 2. larger self-intersections ----

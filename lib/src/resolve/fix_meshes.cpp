@@ -324,10 +324,11 @@ class Solver {
           for (std::uint32_t v : topo_.tris[x.face]) covered = covered || in_moving_set[v];
         }
       }
+      if (covered) continue;
       // The second stage makes only measured moves on self contours: on a finely subdivided fold
       // the per-crossing rule's shear is what tangles it further.
-      if (covered || (pieces_ && c.self)) continue;
-      crossing_moves(set, t, analysis, moves);
+      if (pieces_ && c.self) measured_crossing_move(set, t, analysis, in_moving_set, moves);
+      else crossing_moves(set, t, analysis, moves);
     }
 
     return apply(moves);
@@ -852,8 +853,8 @@ class Solver {
       std::sort(part.begin(), part.end());
 
       const std::size_t n = part.size();
-      std::vector<Vec3> closest(n), mirror(n), ray_up(n), ray_down(n);
-      bool up_ok = true, down_ok = true;
+      std::vector<Vec3> closest(n), mirror(n), ray_up(n), ray_down(n), across(n);
+      bool up_ok = true, down_ok = true, across_differs = false;
       for (std::size_t i = 0; i < n; ++i) {
         const Vec3& p = topo_.points[part[i]];
         const Kernel::Point_3 query(p[0], p[1], p[2]);
@@ -869,6 +870,17 @@ class Solver {
         // A part mirrored through a flat partner may land in the plane of its own mesh (a flat
         // strip folded onto itself): the clearance along its own normal keeps the fold open.
         mirror[i] = add(add(scale(to, 2.0), scale(dir, clearance)), scale(nv, clearance));
+        if (pieces_) {
+          // Reflected across the plane of the closest face: the same as mirrored where the
+          // closest point lies inside the face; beyond the partner's edge the part turns round
+          // the edge instead of onto it.
+          const Vec3 nf = face_normal(topo_, face);
+          const Vec3 to_plane = scale(nf, dot(nf, sub(topo_.points[topo_.tris[face][0]], p)));
+          Vec3 side = unit(to_plane);
+          if (norm(to_plane) == 0.0) side = dir;
+          across[i] = add(add(scale(to_plane, 2.0), scale(side, clearance)), scale(nv, clearance));
+          across_differs = across_differs || across[i] != mirror[i];
+        }
         for (int sign : {1, -1}) {
           bool& ok = sign > 0 ? up_ok : down_ok;
           if (!ok) continue;
@@ -894,6 +906,7 @@ class Solver {
       p.options.push_back(std::move(mirror));
       if (up_ok) p.options.push_back(std::move(ray_up));
       if (down_ok) p.options.push_back(std::move(ray_down));
+      if (across_differs) p.options.push_back(std::move(across));
       for (const std::vector<Vec3>& option : p.options) p.strain.push_back(strain(part, member, 0, option));
       p.part = std::move(part);
       out.push_back(std::move(p));
@@ -964,8 +977,14 @@ class Solver {
     const std::uint32_t components[2] = {track_component(topo_, set, t, 0),
                                          track_component(topo_, set, t, 1)};
     const bool self = components[0] == components[1];
+    // A track that separates but cuts no edge encloses no vertex (a sliver of a base's edge inside
+    // a flap's triangles): self_contour_move finds no side there. The second stage gives such a
+    // contour a flap too.
+    auto separates_vertices = [&](const Track& track) {
+      return track.separates && (!pieces_ || track.cut_edges > 0);
+    };
     if (self) {
-      if (c.tracks[0].separates || c.tracks[1].separates) return;  // self_contour_move's case
+      if (separates_vertices(c.tracks[0]) || separates_vertices(c.tracks[1])) return;  // self_contour_move's case
     } else if (c.tracks[0].type != TrackType::kBI || c.tracks[1].type != TrackType::kBI) {
       return;
     }
@@ -1042,7 +1061,10 @@ class Solver {
           // A corner of the closest face lies on the other surface (a fold vertex shared by both
           // sides of a sheet).
           int result = f[0] == v || f[1] == v || f[2] == v ? 0 : orient_sos(topo_.points, f[0], f[1], f[2], v);
-          for (int e = 0; e < 3 && result != 0; ++e) {
+          // In the second stage a vertex beyond the other surface's edge keeps the side of the
+          // closest face's plane: the part of a flap that dives beyond a base's edge moves with the
+          // flap, instead of holding its triangles through the edge (reflected across that plane).
+          for (int e = 0; e < 3 && result != 0 && !pieces_; ++e) {
             // Closest point on edge (f[e], f[e+1]) of the other surface's boundary: not over it.
             const Vec3& a = topo_.points[f[e]];
             const Vec3& b = topo_.points[f[(e + 1) % 3]];
@@ -1141,6 +1163,46 @@ class Solver {
     const Candidate& smallest = candidates[smallest_index];
     for (std::uint32_t v : smallest.vertices) in_moving_set[v] = 1;
     move_regions(smallest.mesh, smallest.orientation, smallest.vertices, *smallest.tree, moves);
+  }
+
+  // The per-crossing rule's step for one contour, measured (TrialMove) and made only when it
+  // removes crossings: a pinch between two triangles next to a moved flap is undone, a shear that
+  // would tangle a fold further is not made.
+  void measured_crossing_move(const CrossingSet& set, const TracedContour& t, const RegionAnalysis& analysis,
+                              std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
+    if (!crossing_scratch_) crossing_scratch_ = std::make_unique<Moves>(topo_.points.size());
+    Moves& scratch = *crossing_scratch_;
+    crossing_moves(set, t, analysis, scratch);
+    std::vector<std::uint32_t> touched;
+    for (std::uint32_t ci : t.contour.crossings) {
+      const RawCrossing& x = set.items[ci];
+      for (std::uint32_t v : topo_.edges[x.edge]) touched.push_back(v);
+      for (std::uint32_t v : topo_.tris[x.face]) touched.push_back(v);
+    }
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    Choice step;
+    for (std::uint32_t v : touched) {
+      if (scratch.crossing_count[v] == 0 || !free_[v] || measured_[v] || moves.has_region[v]) continue;
+      Vec3 d = scale(scratch.crossing[v], 1.0 / scratch.crossing_count[v]);
+      const double len = norm(d), cap = options_.max_step * vertex_edge_[v];
+      if (len > cap) d = scale(d, cap / len);
+      Vec3 at = add(topo_.points[v], d);
+      if (round_) at = round_(at);
+      if (at == topo_.points[v]) continue;
+      step.part.push_back(v);
+      step.delta.push_back(sub(at, topo_.points[v]));
+      step.at.push_back(at);
+    }
+    for (std::uint32_t v : touched) {
+      scratch.crossing[v] = Vec3{0, 0, 0};
+      scratch.crossing_count[v] = 0;
+    }
+    if (step.part.empty() || 3 * step.part.size() > trial_budget_) return;
+    trial_budget_ -= 3 * step.part.size();
+    const TrialCount count = trial_->count(settings_, *hierarchy_, set, step.part, step.at, true);
+    if (count.after >= count.before) return;
+    make_measured_move(step, in_moving_set, moves);
   }
 
   // Label of welded vertex v with respect to component `partner` (-1 undecided).
@@ -1390,6 +1452,7 @@ class Solver {
   std::size_t trial_budget_ = 0;  // triangles measured moves may still touch in this step
   bool wide_tried_ = false;       // a wide patch was built in this step
   bool pieces_ = false;           // the second stage (escalate): track pieces are candidates
+  std::unique_ptr<Moves> crossing_scratch_;  // measured_crossing_move's, all zero between calls
   std::vector<std::uint8_t> member_, seen_;  // part_moves' scratch, per welded vertex, all zero
   std::vector<std::uint8_t> measured_;       // per welded vertex: taken by a measured move this step
   std::vector<std::uint32_t> measured_list_;
