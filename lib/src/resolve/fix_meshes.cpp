@@ -249,13 +249,14 @@ class Solver {
   }
 
  private:
-  // The second stage, once: when the run stalls with a self contour left, it goes back to the
-  // best state so far and goes on with each track's own pieces as further candidate sides of the
-  // self contours (self_contour_move). Only the best state is ever written, so the second stage
+  // The second stage of the region method, once: when the run stalls with a self contour left,
+  // it starts again from the input with each track's own pieces as further candidate sides of
+  // the self contours (self_contour_move), flaps beyond the other surface's edge (flap_move) and
+  // only measured moves on self contours. Only the best state is ever written, so the second stage
   // can cost time but never leave more crossings than the first.
   bool escalate(const std::vector<TracedContour>& traced, std::unique_ptr<SceneHierarchy>& hierarchy,
                 int& since_best) {
-    if (pieces_ || best_points_.empty()) return false;
+    if (pieces_ || best_points_.empty() || options_.method != FixMethod::kRegion) return false;
     const bool self = std::any_of(traced.begin(), traced.end(),
                                   [](const TracedContour& t) { return t.contour.self; });
     if (!self) return false;
