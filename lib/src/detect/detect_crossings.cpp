@@ -219,16 +219,18 @@ Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, 
 
 namespace {
 
-// The broad phase, one tested triangle at a time: `visit(t, u)` for every candidate pair (t, u)
-// whose closed boxes overlap and that share at most one vertex, each pair once, t a triangle of a
-// tested (not skipped) mesh. Triangles are visited in blocks in parallel; `visit` receives the
-// block index so results can be kept per block and joined in order (deterministic), and the sides
-// `prune` (surely_apart) found exactly.
+constexpr std::size_t kBlock = 1024;  // retested triangles per parallel block (update_crossings)
+constexpr std::size_t kParts = 64;    // parts per descent of two hierarchies (for_each_candidate)
+
+// The broad phase: `visit(part, t, u, sides)` for every candidate pair (t, u) (t < u) whose closed
+// boxes overlap and that share at most one vertex, each pair once, t or u a triangle of a tested
+// (not skipped) mesh, with the sides `prune` (surely_apart) found exactly. The descents of the
+// hierarchies are split into independent parts run in parallel, descent and tests together;
+// `visit` receives the part's index so results can be kept per part and joined in order
+// (deterministic: the parts depend only on the trees).
 template <class Visit>
-void for_each_candidate(const SceneTopology& topo, const DetectSettings& settings,
-                        std::size_t block_size, bool prune, const Visit& visit) {
-  // Broad phase: simultaneous descents of bounding-volume hierarchies (one per mesh), collected in
-  // a deterministic order; the filters and `visit` run in parallel blocks of pairs.
+void for_each_candidate(const SceneTopology& topo, const DetectSettings& settings, bool prune,
+                        const Visit& visit) {
   const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
   const bool skipping = !settings.skip_among.empty();
   auto skipped = [&](std::size_t m) { return skipping && settings.skip_among[m]; };
@@ -247,20 +249,23 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
       per_mesh[m] = std::make_unique<TriangleBvh>(topo, kept[m]);
     }
   });
-  std::vector<std::array<std::uint32_t, 2>> pairs;
-  std::size_t indexed = 0;  // a first guess at the number of pairs, to grow the list less often
-  for (const auto& tree : per_mesh)
-    if (tree) indexed += tree->size();
-  pairs.reserve(2 * indexed);
-  auto add = [&](std::uint32_t t, std::uint32_t u) { pairs.push_back({std::min(t, u), std::max(t, u)}); };
+  // The descents to make: each tested mesh with itself (self pairs) and with every later mesh,
+  // and with the skipped meshes' shared hierarchy when there is one.
+  struct Descent {
+    const TriangleBvh* a;
+    const TriangleBvh* b;
+    bool self;
+  };
+  std::vector<Descent> descents;
   for (std::size_t a = 0; a < meshes; ++a) {
     if (skipped(a)) continue;
-    if (settings.self_pairs) per_mesh[a]->each_pair_self(add);
+    if (settings.self_pairs) descents.push_back({per_mesh[a].get(), per_mesh[a].get(), true});
     for (std::size_t b = a + 1; b < meshes; ++b) {
       if (skipped(b) && settings.skipped_bvh != nullptr) continue;  // below, all at once
-      per_mesh[a]->each_pair_with(*per_mesh[b], add);
+      descents.push_back({per_mesh[a].get(), per_mesh[b].get(), false});
     }
-    if (skipping && settings.skipped_bvh != nullptr) per_mesh[a]->each_pair_with(*settings.skipped_bvh, add);
+    if (skipping && settings.skipped_bvh != nullptr)
+      descents.push_back({per_mesh[a].get(), settings.skipped_bvh, false});
   }
   // Skipped meshes before a tested one were visited from the tested side above (b > a only covers
   // later meshes): pair earlier skipped meshes too.
@@ -268,26 +273,33 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
     for (std::size_t a = 0; a < meshes; ++a) {
       if (!skipped(a)) continue;
       for (std::size_t b = a + 1; b < meshes; ++b)
-        if (!skipped(b)) per_mesh[a]->each_pair_with(*per_mesh[b], add);
+        if (!skipped(b)) descents.push_back({per_mesh[a].get(), per_mesh[b].get(), false});
     }
   }
-  const std::size_t blocks = (pairs.size() + block_size - 1) / block_size;
-  visit.start(blocks);
-  run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t block = begin; block < end; ++block) {
-      const std::size_t last = std::min(pairs.size(), (block + 1) * block_size);
-      for (std::size_t i = block * block_size; i < last; ++i) {
-        const std::uint32_t t = pairs[i][0], u = pairs[i][1];
-        if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
+  struct Job {
+    std::uint32_t descent;
+    TriangleBvh::Part part;
+  };
+  std::vector<Job> jobs;
+  for (std::size_t d = 0; d < descents.size(); ++d)
+    for (const TriangleBvh::Part& part : descents[d].a->split(*descents[d].b, descents[d].self, kParts))
+      jobs.push_back({static_cast<std::uint32_t>(d), part});
+  visit.start(jobs.size());
+  run_parallel(settings.threads, jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const Descent& d = descents[jobs[k].descent];
+      d.a->each_pair_in(*d.b, jobs[k].part, d.self, [&](std::uint32_t x, std::uint32_t y) {
+        const std::uint32_t t = std::min(x, y), u = std::max(x, y);
+        if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) return;
         PairSides sides;
-        if (prune && surely_apart(topo, t, u, sides)) continue;
-        visit(block, t, u, sides);
-      }
+        if (prune && surely_apart(topo, t, u, sides)) return;
+        visit(k, t, u, sides);
+      });
     }
   });
 }
 
-// Results kept per block of pairs and joined in block order.
+// Results kept per part of the descents (or block of pairs) and joined in order.
 template <class T, class Body>
 struct BlockSink {
   std::vector<std::vector<T>>& found;
@@ -302,14 +314,12 @@ BlockSink<T, Body> sink(std::vector<std::vector<T>>& found, Body body) {
   return {found, body};
 }
 
-constexpr std::size_t kBlock = 1024;
-
 }  // namespace
 
 std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& topo,
                                                           const DetectSettings& settings) {
   std::vector<std::vector<std::array<std::uint32_t, 2>>> found;
-  for_each_candidate(topo, settings, kBlock, false,
+  for_each_candidate(topo, settings, false,
                      sink(found, [](auto& out, std::uint32_t t, std::uint32_t u, const PairSides&) {
                        out.push_back({t, u});
                      }));
@@ -321,7 +331,7 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
 
 CrossingSet detect_crossings(const SceneTopology& topo, const DetectSettings& settings) {
   std::vector<std::vector<RawCrossing>> found;
-  for_each_candidate(topo, settings, kBlock, true,
+  for_each_candidate(topo, settings, true,
                      sink(found, [&topo](auto& out, std::uint32_t t, std::uint32_t u, const PairSides& sides) {
                        test_owned_edges(topo, t, u, sides.of_t, out);
                        test_owned_edges(topo, u, t, sides.of_u, out);
