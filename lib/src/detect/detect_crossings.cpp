@@ -70,6 +70,33 @@ int orient_exact(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t
   return static_cast<int>(CGAL::orientation(p(a), p(b), p(c), p(d)));
 }
 
+// What the pruning test needs of one triangle alone: found once per triangle in detection (a flat
+// sheet's triangle meets a dozen others), per pair elsewhere.
+struct TriPlane {
+  std::int8_t axis;       // the corners share this coordinate bit for bit (the lowest such), or -1
+  std::int8_t axis_turn;  // AxisPlane's turn when axis >= 0
+  std::int8_t drop;       // the dominant axis of the rounded normal: coplanar tests project along it
+  std::int8_t turn;       // orient_2d of the corners along drop (0: degenerate there)
+};
+
+TriPlane tri_plane(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3>& tri) {
+  const Vec3 &p0 = P[tri[0]], &p1 = P[tri[1]], &p2 = P[tri[2]];
+  int axis = -1;
+  for (int k = 2; k >= 0; --k)
+    if (p0[k] == p1[k] && p0[k] == p2[k]) axis = k;
+  const Vec3 e1{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+  const Vec3 e2{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+  const Vec3 n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  int drop = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(n[k]) > std::abs(n[drop])) drop = k;
+  const int turn = orient_2d(p0, p1, p2, drop);
+  int axis_turn = 0;
+  if (axis >= 0) axis_turn = axis == drop ? AxisPlane::turn_for(turn, axis) : AxisPlane::turn_of(p0, p1, p2, axis);
+  return {static_cast<std::int8_t>(axis), static_cast<std::int8_t>(axis_turn),
+          static_cast<std::int8_t>(drop), static_cast<std::int8_t>(turn)};
+}
+
 // Whether triangles t and u (sharing at most one vertex) provably yield no crossing under every
 // infinitesimal perturbation, so the exact tests can be skipped: the non-shared corners of one lie
 // strictly on one side of the other's plane, or the two are coplanar and a line through an edge of
@@ -81,19 +108,16 @@ struct PairSides {
 };
 
 bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3>& a,
-                     const std::array<std::uint32_t, 3>& b, PairSides& sides) {
-  auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const std::array<std::uint32_t, 3>& other,
-                      bool& coplanar, std::array<int, 3>& side) {
+                     const std::array<std::uint32_t, 3>& b, const TriPlane& plane_a,
+                     const TriPlane& plane_b, PairSides& sides) {
+  auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const TriPlane& info,
+                      const std::array<std::uint32_t, 3>& other, bool& coplanar, std::array<int, 3>& side) {
     // A plane normal to an axis (flat sheets: nearly every plane) is decided exactly by one
     // comparison per point (AxisPlane). Other planes try the filter first.
-    const Vec3 &p0 = P[plane[0]], &p1 = P[plane[1]], &p2 = P[plane[2]];
-    int axis = -1;
-    for (int k = 2; k >= 0; --k)
-      if (p0[k] == p1[k] && p0[k] == p2[k]) axis = k;
     std::optional<PlaneFilter> filter;
     std::optional<AxisPlane> flat;
-    if (axis >= 0) flat.emplace(p0, p1, p2, axis);
-    else filter.emplace(p0, p1, p2);
+    if (info.axis >= 0) flat.emplace(P[plane[0]][info.axis], info.axis, info.axis_turn);
+    else filter.emplace(P[plane[0]], P[plane[1]], P[plane[2]]);
     int pos = 0, neg = 0, zero = 0;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = other[k];
@@ -114,21 +138,15 @@ bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t,
     return zero == 0 && (pos == 0 || neg == 0);
   };
   bool coplanar_b = false, coplanar_a = false;
-  if (one_side(a, b, coplanar_b, sides.of_u)) return true;
+  if (one_side(a, plane_a, b, coplanar_b, sides.of_u)) return true;
   // b's free corners in a's plane: b lies in that plane (or is degenerate), a in b's, and the test
   // from b's side can only find zeros.
-  if (!coplanar_b && one_side(b, a, coplanar_a, sides.of_t)) return true;
+  if (!coplanar_b && one_side(b, plane_b, a, coplanar_a, sides.of_t)) return true;
   if (!coplanar_b) return false;
   // Coplanar: project along the dominant axis of t's normal (skip degenerate projections).
-  const Vec3 &p0 = P[a[0]], &p1 = P[a[1]], &p2 = P[a[2]];
-  const Vec3 e1{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-  const Vec3 e2{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-  const Vec3 n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-  int drop = 0;
-  for (int k = 1; k < 3; ++k)
-    if (std::abs(n[k]) > std::abs(n[drop])) drop = k;
-  const int turn_a = orient_2d(p0, p1, p2, drop);
-  const int turn_b = orient_2d(P[b[0]], P[b[1]], P[b[2]], drop);
+  const int drop = plane_a.drop;
+  const int turn_a = plane_a.turn;
+  const int turn_b = plane_b.drop == drop ? plane_b.turn : orient_2d(P[b[0]], P[b[1]], P[b[2]], drop);
   if (turn_a == 0 || turn_b == 0) return false;
   // Sharing one vertex s: apart when no corner ray of one lies in the other's closed sector at s
   // (the sectors then meet only in s, with an angle between them on both sides). This decides the
@@ -176,7 +194,8 @@ bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t,
 }
 
 bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, PairSides& sides) {
-  return surely_apart_at(topo.points, topo.tris[t], topo.tris[u], sides);
+  const auto &a = topo.tris[t], &b = topo.tris[u];
+  return surely_apart_at(topo.points, a, b, tri_plane(topo.points, a), tri_plane(topo.points, b), sides);
 }
 
 }  // namespace
@@ -184,7 +203,7 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, P
 bool triangles_surely_apart(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& a,
                             const std::array<std::uint32_t, 3>& b) {
   PairSides sides;
-  return surely_apart_at(points, a, b, sides);
+  return surely_apart_at(points, a, b, tri_plane(points, a), tri_plane(points, b), sides);
 }
 
 std::uint32_t CrossingSet::find(std::uint32_t edge, std::uint32_t face) const {
@@ -242,13 +261,36 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
     cull[m] = (!settings.self_pairs || skipped(m)) && !(skipped(m) && settings.skipped_bvh != nullptr);
   const std::vector<std::vector<std::uint32_t>> kept = cull_triangles(topo, cull, settings.threads);
   // One hierarchy per mesh, built in parallel (each into its own slot: the same trees for every
-  // thread count).
-  run_parallel(settings.threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t m = begin; m < end; ++m) {
-      if (skipped(m) && settings.skipped_bvh != nullptr) continue;
-      per_mesh[m] = std::make_unique<TriangleBvh>(topo, kept[m]);
+  // thread count); meanwhile, for pruning, the TriPlane of each triangle in them, in chunks (a
+  // flat sheet's triangle is in a dozen pairs). The shared hierarchy of skipped meshes has none.
+  auto own_tree = [&](std::size_t m) { return !(skipped(m) && settings.skipped_bvh != nullptr); };
+  std::unique_ptr<TriPlane[]> planes(prune ? new TriPlane[topo.tris.size()] : nullptr);
+  constexpr std::size_t kChunk = 4096;
+  struct Chunk {
+    std::uint32_t mesh;
+    std::size_t begin, end;  // in kept[mesh]
+  };
+  std::vector<Chunk> chunks;
+  for (std::size_t m = 0; m < meshes && prune; ++m)
+    if (own_tree(m))
+      for (std::size_t i = 0; i < kept[m].size(); i += kChunk)
+        chunks.push_back({static_cast<std::uint32_t>(m), i, std::min(kept[m].size(), i + kChunk)});
+  run_parallel(settings.threads, meshes + chunks.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      if (k < meshes) {
+        if (own_tree(k)) per_mesh[k] = std::make_unique<TriangleBvh>(topo, kept[k]);
+        continue;
+      }
+      const Chunk& c = chunks[k - meshes];
+      for (std::size_t i = c.begin; i < c.end; ++i) {
+        const std::uint32_t t = kept[c.mesh][i];
+        planes[t] = tri_plane(topo.points, topo.tris[t]);
+      }
     }
   });
+  auto plane_of = [&](std::uint32_t t) {
+    return own_tree(topo.tri_mesh[t]) ? planes[t] : tri_plane(topo.points, topo.tris[t]);
+  };
   // The descents to make: each tested mesh with itself (self pairs) and with every later mesh,
   // and with the skipped meshes' shared hierarchy when there is one.
   struct Descent {
@@ -292,7 +334,8 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
         const std::uint32_t t = std::min(x, y), u = std::max(x, y);
         if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) return;
         PairSides sides;
-        if (prune && surely_apart(topo, t, u, sides)) return;
+        if (prune && surely_apart_at(topo.points, topo.tris[t], topo.tris[u], plane_of(t), plane_of(u), sides))
+          return;
         visit(k, t, u, sides);
       });
     }
