@@ -97,6 +97,64 @@ TriPlane tri_plane(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3
           static_cast<std::int8_t>(drop), static_cast<std::int8_t>(turn)};
 }
 
+// The class of the direction from s to r in the projection along `drop` onto axes (i, j), counter-
+// clockwise from +i: 0 on the +i half-axis, 1 in the open quadrant (+, +), 2 on +j, ... 7 in
+// (+, -); exact (comparisons only). A turn of less than a half circle advances it by 0 to 4.
+int direction_class(const Vec3& s, const Vec3& r, int drop) {
+  const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
+  const int u = (r[i] > s[i]) - (r[i] < s[i]), v = (r[j] > s[j]) - (r[j] < s[j]);
+  static constexpr int kClass[3][3] = {{5, 4, 3}, {6, -1, 2}, {7, 0, 1}};  // [u + 1][v + 1]
+  return kClass[u + 1][v + 1];
+}
+
+// Per welded vertex of the meshes flagged in `fans_of` (others 0): 1 when the triangles around it
+// form one flat fan that winds around it exactly once, so that any two of them that share only
+// that vertex meet only there (the sector test of surely_apart_at would say so after up to eight
+// orientations). Conditions, all exact: every edge at the vertex has two faces that run through
+// it in opposite directions (the sectors form cycles of rays); every triangle at it lies in one
+// plane normal to an axis (AxisPlane; TriPlane drop equal to the axis) with the same nonzero turn
+// there, so each sector is less than a half circle counter-clockwise (or each clockwise); and the
+// sectors' direction classes advance by 8 in all, one full turn (each cycle of rays turns a whole
+// number of times, at least once). Flat sheets make nearly every interior vertex one of these.
+std::vector<std::uint8_t> flat_fans(const SceneTopology& topo, const TriPlane* planes,
+                                    const std::vector<bool>& fans_of, int threads) {
+  std::vector<std::uint8_t> fan(topo.points.size(), 0);
+  auto embedded = [&](std::uint32_t s) {
+    int axis = -1, turn = 0, advance = 0;
+    for (std::uint32_t i = topo.vertex_edge_begin[s]; i < topo.vertex_edge_begin[s + 1]; ++i) {
+      const std::uint32_t e = topo.vertex_edges[i], x = topo.vertex_neighbors[i];
+      if (topo.edge_face_count(e) != 2) return false;
+      int forward = 0;
+      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
+        const std::uint32_t f = topo.edge_faces[k];
+        const auto& tri = topo.tris[f];
+        const int c = tri[0] == s ? 0 : tri[1] == s ? 1 : 2;
+        if (tri[(c + 1) % 3] != x) continue;  // f runs x -> s: counted from its other edge at s
+        ++forward;
+        const TriPlane& p = planes[f];
+        if (p.axis < 0 || p.drop != p.axis || p.turn == 0) return false;
+        if (axis < 0) axis = p.axis, turn = p.turn;
+        if (p.axis != axis || p.turn != turn) return false;
+        const int from = direction_class(topo.points[s], topo.points[x], axis);
+        const int to = direction_class(topo.points[s], topo.points[tri[(c + 2) % 3]], axis);
+        advance += ((turn > 0 ? to - from : from - to) + 8) % 8;
+      }
+      if (forward != 1) return false;
+    }
+    return axis >= 0 && advance == 8;
+  };
+  const std::size_t meshes = topo.mesh_vertex_begin.size() - 1;
+  for (std::size_t m = 0; m < meshes; ++m) {
+    if (!fans_of[m]) continue;
+    const std::uint32_t first = topo.mesh_vertex_begin[m], last = topo.mesh_vertex_begin[m + 1];
+    run_parallel(threads, last - first, 1024, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t v = first + begin; v < first + end; ++v)
+        fan[v] = embedded(static_cast<std::uint32_t>(v)) ? 1 : 0;
+    });
+  }
+  return fan;
+}
+
 // Whether triangles t and u (sharing at most one vertex) provably yield no crossing under every
 // infinitesimal perturbation, so the exact tests can be skipped: the non-shared corners of one lie
 // strictly on one side of the other's plane, or the two are coplanar and a line through an edge of
@@ -291,6 +349,13 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
   auto plane_of = [&](std::uint32_t t) {
     return own_tree(topo.tri_mesh[t]) ? planes[t] : tri_plane(topo.points, topo.tris[t]);
   };
+  // Pairs inside a mesh that share one vertex: apart without a test around a flat fan.
+  std::vector<std::uint8_t> fan;
+  if (prune && settings.self_pairs) {
+    std::vector<bool> fans_of(meshes);
+    for (std::size_t m = 0; m < meshes; ++m) fans_of[m] = own_tree(m) && !skipped(m);
+    fan = flat_fans(topo, planes.get(), fans_of, settings.threads);
+  }
   // The descents to make: each tested mesh with itself (self pairs) and with every later mesh,
   // and with the skipped meshes' shared hierarchy when there is one.
   struct Descent {
@@ -332,7 +397,13 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
       const Descent& d = descents[jobs[k].descent];
       d.a->each_pair_in(*d.b, jobs[k].part, d.self, [&](std::uint32_t x, std::uint32_t y) {
         const std::uint32_t t = std::min(x, y), u = std::max(x, y);
-        if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) return;
+        const auto &a = topo.tris[t], &b = topo.tris[u];
+        std::uint32_t shared = kNone;
+        int count = 0;
+        for (std::uint32_t v : a)
+          if (v == b[0] || v == b[1] || v == b[2]) shared = v, ++count;
+        if (count >= 2) return;
+        if (count == 1 && !fan.empty() && fan[shared]) return;
         PairSides sides;
         if (prune && surely_apart_at(topo.points, topo.tris[t], topo.tris[u], plane_of(t), plane_of(u), sides))
           return;
