@@ -126,3 +126,87 @@ TEST(Orientation, AxisPlaneAgreesWithCgal) {
 
 }  // namespace
 }  // namespace untangle
+
+namespace untangle {
+namespace {
+
+int cgal_orientation_2d(double ax, double ay, double bx, double by, double cx, double cy) {
+  return static_cast<int>(CGAL::orientation(K::Point_2(ax, ay), K::Point_2(bx, by), K::Point_2(cx, cy)));
+}
+
+// The exact 2D orientation by expansion arithmetic equals CGAL's exact orientation on random,
+// grid-snapped (collinear, coincident), exactly collinear points with inexact differences,
+// nearly collinear, tiny and huge coordinates, in every order of the points; outside its range it
+// answers 2 and orient_2d (which then asks CGAL) still agrees.
+TEST(Orientation, ExpansionOrient2dAgreesWithCgal) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::uniform_int_distribution<int> g(-2, 2);
+  std::uniform_int_distribution<int> e(-60, 60);
+  int zeros = 0, inexact_zeros = 0, decided = 0, undecided = 0;
+  const double scales[] = {1.0, 1e-130, 1e130, 1e-200, 1e200, 3.0e-320};
+  for (int i = 0; i < 60000; ++i) {
+    const int kind = i % 6;
+    const double scale = scales[(i / 6) % 6];
+    std::array<std::array<double, 2>, 3> p;
+    if (kind == 0) {  // random
+      for (auto& q : p) q = {u(rng) * scale, u(rng) * scale};
+    } else if (kind == 1) {  // grid-snapped: collinear and coincident points, exact differences
+      const double h = 0.0125 * scale;
+      for (auto& q : p) q = {g(rng) * h + 0.3 * scale, g(rng) * h - 0.7 * scale};
+    } else if (kind == 2) {  // on the line y = 2^k x: exactly collinear, differences inexact
+      const double slope = std::ldexp(1.0, e(rng) / 10);
+      for (auto& q : p) {
+        const double x = std::ldexp(u(rng), e(rng)) * scale;
+        q = {x, x * slope};
+      }
+    } else if (kind == 3) {  // nearly collinear: the third point rounded onto the line of two
+      p[0] = {u(rng) * scale, u(rng) * scale};
+      p[1] = {u(rng) * scale, u(rng) * scale};
+      const double t = u(rng) * 3.0;
+      p[2] = {p[0][0] + t * (p[1][0] - p[0][0]), p[0][1] + t * (p[1][1] - p[0][1])};
+    } else if (kind == 4) {  // mixed magnitudes along a diagonal, with offsets
+      for (auto& q : p) {
+        const double x = std::ldexp(u(rng), e(rng)) * scale;
+        q = {x, x};
+      }
+      p[i % 3][1] += std::ldexp(u(rng), e(rng) - 60) * scale;
+    } else {  // a grid of a flat sheet: i / 80 steps from an offset origin, with diagonals
+      const double h = 1.2 * scale / 80.0;
+      for (auto& q : p) {
+        const int k = g(rng) * 7, l = k + (i % 2 ? 0 : g(rng));
+        q = {-0.61 * scale + k * h, 0.37 * scale + l * h};
+      }
+    }
+    std::array<int, 3> order{0, 1, 2};
+    do {
+      const auto &a = p[order[0]], &b = p[order[1]], &c = p[order[2]];
+      const int expected = cgal_orientation_2d(a[0], a[1], b[0], b[1], c[0], c[1]);
+      const int got = orient_2d_expansion(a[0], a[1], b[0], b[1], c[0], c[1]);
+      if (got == 2) {
+        ++undecided;
+      } else {
+        ++decided;
+        ASSERT_EQ(got, expected) << "case " << i << " kind " << kind;
+        if (expected == 0) {
+          ++zeros;
+          double x, y;
+          x = a[0] - c[0];
+          y = a[0] - x - c[0];
+          inexact_zeros += y != 0.0 || b[1] - c[1] - (b[1] - c[1]) != 0.0 || kind == 2;
+        }
+      }
+      // orient_2d along axis 2 uses (x, y) = coordinates 0 and 1.
+      ASSERT_EQ(orient_2d(Vec3{a[0], a[1], 0.0}, Vec3{b[0], b[1], 0.0}, Vec3{c[0], c[1], 0.0}, 2),
+                expected)
+          << "case " << i << " kind " << kind;
+    } while (std::next_permutation(order.begin(), order.end()));
+  }
+  EXPECT_GT(zeros, 20000);
+  EXPECT_GT(inexact_zeros, 5000);
+  EXPECT_GT(decided, 100000);
+  EXPECT_GT(undecided, 100000);  // the tiny and huge scales
+}
+
+}  // namespace
+}  // namespace untangle

@@ -70,6 +70,91 @@ int orient_exact(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t
   return static_cast<int>(CGAL::orientation(p(a), p(b), p(c), p(d)));
 }
 
+// What the pruning test needs of one triangle alone: found once per triangle in detection (a flat
+// sheet's triangle meets a dozen others), per pair elsewhere.
+struct TriPlane {
+  std::int8_t axis;       // the corners share this coordinate bit for bit (the lowest such), or -1
+  std::int8_t axis_turn;  // AxisPlane's turn when axis >= 0
+  std::int8_t drop;       // the dominant axis of the rounded normal: coplanar tests project along it
+  std::int8_t turn;       // orient_2d of the corners along drop (0: degenerate there)
+};
+
+TriPlane tri_plane(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3>& tri) {
+  const Vec3 &p0 = P[tri[0]], &p1 = P[tri[1]], &p2 = P[tri[2]];
+  int axis = -1;
+  for (int k = 2; k >= 0; --k)
+    if (p0[k] == p1[k] && p0[k] == p2[k]) axis = k;
+  const Vec3 e1{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
+  const Vec3 e2{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
+  const Vec3 n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  int drop = 0;
+  for (int k = 1; k < 3; ++k)
+    if (std::abs(n[k]) > std::abs(n[drop])) drop = k;
+  const int turn = orient_2d(p0, p1, p2, drop);
+  int axis_turn = 0;
+  if (axis >= 0) axis_turn = axis == drop ? AxisPlane::turn_for(turn, axis) : AxisPlane::turn_of(p0, p1, p2, axis);
+  return {static_cast<std::int8_t>(axis), static_cast<std::int8_t>(axis_turn),
+          static_cast<std::int8_t>(drop), static_cast<std::int8_t>(turn)};
+}
+
+// The class of the direction from s to r in the projection along `drop` onto axes (i, j), counter-
+// clockwise from +i: 0 on the +i half-axis, 1 in the open quadrant (+, +), 2 on +j, ... 7 in
+// (+, -); exact (comparisons only). A turn of less than a half circle advances it by 0 to 4.
+int direction_class(const Vec3& s, const Vec3& r, int drop) {
+  const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
+  const int u = (r[i] > s[i]) - (r[i] < s[i]), v = (r[j] > s[j]) - (r[j] < s[j]);
+  static constexpr int kClass[3][3] = {{5, 4, 3}, {6, -1, 2}, {7, 0, 1}};  // [u + 1][v + 1]
+  return kClass[u + 1][v + 1];
+}
+
+// Per welded vertex of the meshes flagged in `fans_of` (others 0): 1 when the triangles around it
+// form one flat fan that winds around it exactly once, so that any two of them that share only
+// that vertex meet only there (the sector test of surely_apart_at would say so after up to eight
+// orientations). Conditions, all exact: every edge at the vertex has two faces that run through
+// it in opposite directions (the sectors form cycles of rays); every triangle at it lies in one
+// plane normal to an axis (AxisPlane; TriPlane drop equal to the axis) with the same nonzero turn
+// there, so each sector is less than a half circle counter-clockwise (or each clockwise); and the
+// sectors' direction classes advance by 8 in all, one full turn (each cycle of rays turns a whole
+// number of times, at least once). Flat sheets make nearly every interior vertex one of these.
+std::vector<std::uint8_t> flat_fans(const SceneTopology& topo, const TriPlane* planes,
+                                    const std::vector<bool>& fans_of, int threads) {
+  std::vector<std::uint8_t> fan(topo.points.size(), 0);
+  auto embedded = [&](std::uint32_t s) {
+    int axis = -1, turn = 0, advance = 0;
+    for (std::uint32_t i = topo.vertex_edge_begin[s]; i < topo.vertex_edge_begin[s + 1]; ++i) {
+      const std::uint32_t e = topo.vertex_edges[i], x = topo.vertex_neighbors[i];
+      if (topo.edge_face_count(e) != 2) return false;
+      int forward = 0;
+      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
+        const std::uint32_t f = topo.edge_faces[k];
+        const auto& tri = topo.tris[f];
+        const int c = tri[0] == s ? 0 : tri[1] == s ? 1 : 2;
+        if (tri[(c + 1) % 3] != x) continue;  // f runs x -> s: counted from its other edge at s
+        ++forward;
+        const TriPlane& p = planes[f];
+        if (p.axis < 0 || p.drop != p.axis || p.turn == 0) return false;
+        if (axis < 0) axis = p.axis, turn = p.turn;
+        if (p.axis != axis || p.turn != turn) return false;
+        const int from = direction_class(topo.points[s], topo.points[x], axis);
+        const int to = direction_class(topo.points[s], topo.points[tri[(c + 2) % 3]], axis);
+        advance += ((turn > 0 ? to - from : from - to) + 8) % 8;
+      }
+      if (forward != 1) return false;
+    }
+    return axis >= 0 && advance == 8;
+  };
+  const std::size_t meshes = topo.mesh_vertex_begin.size() - 1;
+  for (std::size_t m = 0; m < meshes; ++m) {
+    if (!fans_of[m]) continue;
+    const std::uint32_t first = topo.mesh_vertex_begin[m], last = topo.mesh_vertex_begin[m + 1];
+    run_parallel(threads, last - first, 1024, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t v = first + begin; v < first + end; ++v)
+        fan[v] = embedded(static_cast<std::uint32_t>(v)) ? 1 : 0;
+    });
+  }
+  return fan;
+}
+
 // Whether triangles t and u (sharing at most one vertex) provably yield no crossing under every
 // infinitesimal perturbation, so the exact tests can be skipped: the non-shared corners of one lie
 // strictly on one side of the other's plane, or the two are coplanar and a line through an edge of
@@ -81,19 +166,16 @@ struct PairSides {
 };
 
 bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3>& a,
-                     const std::array<std::uint32_t, 3>& b, PairSides& sides) {
-  auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const std::array<std::uint32_t, 3>& other,
-                      bool& coplanar, std::array<int, 3>& side) {
+                     const std::array<std::uint32_t, 3>& b, const TriPlane& plane_a,
+                     const TriPlane& plane_b, PairSides& sides) {
+  auto one_side = [&](const std::array<std::uint32_t, 3>& plane, const TriPlane& info,
+                      const std::array<std::uint32_t, 3>& other, bool& coplanar, std::array<int, 3>& side) {
     // A plane normal to an axis (flat sheets: nearly every plane) is decided exactly by one
     // comparison per point (AxisPlane). Other planes try the filter first.
-    const Vec3 &p0 = P[plane[0]], &p1 = P[plane[1]], &p2 = P[plane[2]];
-    int axis = -1;
-    for (int k = 2; k >= 0; --k)
-      if (p0[k] == p1[k] && p0[k] == p2[k]) axis = k;
     std::optional<PlaneFilter> filter;
     std::optional<AxisPlane> flat;
-    if (axis >= 0) flat.emplace(p0, p1, p2, axis);
-    else filter.emplace(p0, p1, p2);
+    if (info.axis >= 0) flat.emplace(P[plane[0]][info.axis], info.axis, info.axis_turn);
+    else filter.emplace(P[plane[0]], P[plane[1]], P[plane[2]]);
     int pos = 0, neg = 0, zero = 0;
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t v = other[k];
@@ -114,21 +196,15 @@ bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t,
     return zero == 0 && (pos == 0 || neg == 0);
   };
   bool coplanar_b = false, coplanar_a = false;
-  if (one_side(a, b, coplanar_b, sides.of_u)) return true;
+  if (one_side(a, plane_a, b, coplanar_b, sides.of_u)) return true;
   // b's free corners in a's plane: b lies in that plane (or is degenerate), a in b's, and the test
   // from b's side can only find zeros.
-  if (!coplanar_b && one_side(b, a, coplanar_a, sides.of_t)) return true;
+  if (!coplanar_b && one_side(b, plane_b, a, coplanar_a, sides.of_t)) return true;
   if (!coplanar_b) return false;
   // Coplanar: project along the dominant axis of t's normal (skip degenerate projections).
-  const Vec3 &p0 = P[a[0]], &p1 = P[a[1]], &p2 = P[a[2]];
-  const Vec3 e1{p1[0] - p0[0], p1[1] - p0[1], p1[2] - p0[2]};
-  const Vec3 e2{p2[0] - p0[0], p2[1] - p0[1], p2[2] - p0[2]};
-  const Vec3 n{e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
-  int drop = 0;
-  for (int k = 1; k < 3; ++k)
-    if (std::abs(n[k]) > std::abs(n[drop])) drop = k;
-  const int turn_a = orient_2d(p0, p1, p2, drop);
-  const int turn_b = orient_2d(P[b[0]], P[b[1]], P[b[2]], drop);
+  const int drop = plane_a.drop;
+  const int turn_a = plane_a.turn;
+  const int turn_b = plane_b.drop == drop ? plane_b.turn : orient_2d(P[b[0]], P[b[1]], P[b[2]], drop);
   if (turn_a == 0 || turn_b == 0) return false;
   // Sharing one vertex s: apart when no corner ray of one lies in the other's closed sector at s
   // (the sectors then meet only in s, with an angle between them on both sides). This decides the
@@ -176,7 +252,8 @@ bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t,
 }
 
 bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, PairSides& sides) {
-  return surely_apart_at(topo.points, topo.tris[t], topo.tris[u], sides);
+  const auto &a = topo.tris[t], &b = topo.tris[u];
+  return surely_apart_at(topo.points, a, b, tri_plane(topo.points, a), tri_plane(topo.points, b), sides);
 }
 
 }  // namespace
@@ -184,7 +261,7 @@ bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, P
 bool triangles_surely_apart(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& a,
                             const std::array<std::uint32_t, 3>& b) {
   PairSides sides;
-  return surely_apart_at(points, a, b, sides);
+  return surely_apart_at(points, a, b, tri_plane(points, a), tri_plane(points, b), sides);
 }
 
 std::uint32_t CrossingSet::find(std::uint32_t edge, std::uint32_t face) const {
@@ -219,16 +296,18 @@ Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, 
 
 namespace {
 
-// The broad phase, one tested triangle at a time: `visit(t, u)` for every candidate pair (t, u)
-// whose closed boxes overlap and that share at most one vertex, each pair once, t a triangle of a
-// tested (not skipped) mesh. Triangles are visited in blocks in parallel; `visit` receives the
-// block index so results can be kept per block and joined in order (deterministic), and the sides
-// `prune` (surely_apart) found exactly.
+constexpr std::size_t kBlock = 1024;  // retested triangles per parallel block (update_crossings)
+constexpr std::size_t kParts = 64;    // parts per descent of two hierarchies (for_each_candidate)
+
+// The broad phase: `visit(part, t, u, sides)` for every candidate pair (t, u) (t < u) whose closed
+// boxes overlap and that share at most one vertex, each pair once, t or u a triangle of a tested
+// (not skipped) mesh, with the sides `prune` (surely_apart) found exactly. The descents of the
+// hierarchies are split into independent parts run in parallel, descent and tests together;
+// `visit` receives the part's index so results can be kept per part and joined in order
+// (deterministic: the parts depend only on the trees).
 template <class Visit>
-void for_each_candidate(const SceneTopology& topo, const DetectSettings& settings,
-                        std::size_t block_size, bool prune, const Visit& visit) {
-  // Broad phase: simultaneous descents of bounding-volume hierarchies (one per mesh), collected in
-  // a deterministic order; the filters and `visit` run in parallel blocks of pairs.
+void for_each_candidate(const SceneTopology& topo, const DetectSettings& settings, bool prune,
+                        const Visit& visit) {
   const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
   const bool skipping = !settings.skip_among.empty();
   auto skipped = [&](std::size_t m) { return skipping && settings.skip_among[m]; };
@@ -240,27 +319,60 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
     cull[m] = (!settings.self_pairs || skipped(m)) && !(skipped(m) && settings.skipped_bvh != nullptr);
   const std::vector<std::vector<std::uint32_t>> kept = cull_triangles(topo, cull, settings.threads);
   // One hierarchy per mesh, built in parallel (each into its own slot: the same trees for every
-  // thread count).
-  run_parallel(settings.threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t m = begin; m < end; ++m) {
-      if (skipped(m) && settings.skipped_bvh != nullptr) continue;
-      per_mesh[m] = std::make_unique<TriangleBvh>(topo, kept[m]);
+  // thread count); meanwhile, for pruning, the TriPlane of each triangle in them, in chunks (a
+  // flat sheet's triangle is in a dozen pairs). The shared hierarchy of skipped meshes has none.
+  auto own_tree = [&](std::size_t m) { return !(skipped(m) && settings.skipped_bvh != nullptr); };
+  std::unique_ptr<TriPlane[]> planes(prune ? new TriPlane[topo.tris.size()] : nullptr);
+  constexpr std::size_t kChunk = 4096;
+  struct Chunk {
+    std::uint32_t mesh;
+    std::size_t begin, end;  // in kept[mesh]
+  };
+  std::vector<Chunk> chunks;
+  for (std::size_t m = 0; m < meshes && prune; ++m)
+    if (own_tree(m))
+      for (std::size_t i = 0; i < kept[m].size(); i += kChunk)
+        chunks.push_back({static_cast<std::uint32_t>(m), i, std::min(kept[m].size(), i + kChunk)});
+  run_parallel(settings.threads, meshes + chunks.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      if (k < meshes) {
+        if (own_tree(k)) per_mesh[k] = std::make_unique<TriangleBvh>(topo, kept[k]);
+        continue;
+      }
+      const Chunk& c = chunks[k - meshes];
+      for (std::size_t i = c.begin; i < c.end; ++i) {
+        const std::uint32_t t = kept[c.mesh][i];
+        planes[t] = tri_plane(topo.points, topo.tris[t]);
+      }
     }
   });
-  std::vector<std::array<std::uint32_t, 2>> pairs;
-  std::size_t indexed = 0;  // a first guess at the number of pairs, to grow the list less often
-  for (const auto& tree : per_mesh)
-    if (tree) indexed += tree->size();
-  pairs.reserve(2 * indexed);
-  auto add = [&](std::uint32_t t, std::uint32_t u) { pairs.push_back({std::min(t, u), std::max(t, u)}); };
+  auto plane_of = [&](std::uint32_t t) {
+    return own_tree(topo.tri_mesh[t]) ? planes[t] : tri_plane(topo.points, topo.tris[t]);
+  };
+  // Pairs inside a mesh that share one vertex: apart without a test around a flat fan.
+  std::vector<std::uint8_t> fan;
+  if (prune && settings.self_pairs) {
+    std::vector<bool> fans_of(meshes);
+    for (std::size_t m = 0; m < meshes; ++m) fans_of[m] = own_tree(m) && !skipped(m);
+    fan = flat_fans(topo, planes.get(), fans_of, settings.threads);
+  }
+  // The descents to make: each tested mesh with itself (self pairs) and with every later mesh,
+  // and with the skipped meshes' shared hierarchy when there is one.
+  struct Descent {
+    const TriangleBvh* a;
+    const TriangleBvh* b;
+    bool self;
+  };
+  std::vector<Descent> descents;
   for (std::size_t a = 0; a < meshes; ++a) {
     if (skipped(a)) continue;
-    if (settings.self_pairs) per_mesh[a]->each_pair_self(add);
+    if (settings.self_pairs) descents.push_back({per_mesh[a].get(), per_mesh[a].get(), true});
     for (std::size_t b = a + 1; b < meshes; ++b) {
       if (skipped(b) && settings.skipped_bvh != nullptr) continue;  // below, all at once
-      per_mesh[a]->each_pair_with(*per_mesh[b], add);
+      descents.push_back({per_mesh[a].get(), per_mesh[b].get(), false});
     }
-    if (skipping && settings.skipped_bvh != nullptr) per_mesh[a]->each_pair_with(*settings.skipped_bvh, add);
+    if (skipping && settings.skipped_bvh != nullptr)
+      descents.push_back({per_mesh[a].get(), settings.skipped_bvh, false});
   }
   // Skipped meshes before a tested one were visited from the tested side above (b > a only covers
   // later meshes): pair earlier skipped meshes too.
@@ -268,26 +380,40 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
     for (std::size_t a = 0; a < meshes; ++a) {
       if (!skipped(a)) continue;
       for (std::size_t b = a + 1; b < meshes; ++b)
-        if (!skipped(b)) per_mesh[a]->each_pair_with(*per_mesh[b], add);
+        if (!skipped(b)) descents.push_back({per_mesh[a].get(), per_mesh[b].get(), false});
     }
   }
-  const std::size_t blocks = (pairs.size() + block_size - 1) / block_size;
-  visit.start(blocks);
-  run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t block = begin; block < end; ++block) {
-      const std::size_t last = std::min(pairs.size(), (block + 1) * block_size);
-      for (std::size_t i = block * block_size; i < last; ++i) {
-        const std::uint32_t t = pairs[i][0], u = pairs[i][1];
-        if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
+  struct Job {
+    std::uint32_t descent;
+    TriangleBvh::Part part;
+  };
+  std::vector<Job> jobs;
+  for (std::size_t d = 0; d < descents.size(); ++d)
+    for (const TriangleBvh::Part& part : descents[d].a->split(*descents[d].b, descents[d].self, kParts))
+      jobs.push_back({static_cast<std::uint32_t>(d), part});
+  visit.start(jobs.size());
+  run_parallel(settings.threads, jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const Descent& d = descents[jobs[k].descent];
+      d.a->each_pair_in(*d.b, jobs[k].part, d.self, [&](std::uint32_t x, std::uint32_t y) {
+        const std::uint32_t t = std::min(x, y), u = std::max(x, y);
+        const auto &a = topo.tris[t], &b = topo.tris[u];
+        std::uint32_t shared = kNone;
+        int count = 0;
+        for (std::uint32_t v : a)
+          if (v == b[0] || v == b[1] || v == b[2]) shared = v, ++count;
+        if (count >= 2) return;
+        if (count == 1 && !fan.empty() && fan[shared]) return;
         PairSides sides;
-        if (prune && surely_apart(topo, t, u, sides)) continue;
-        visit(block, t, u, sides);
-      }
+        if (prune && surely_apart_at(topo.points, topo.tris[t], topo.tris[u], plane_of(t), plane_of(u), sides))
+          return;
+        visit(k, t, u, sides);
+      });
     }
   });
 }
 
-// Results kept per block of pairs and joined in block order.
+// Results kept per part of the descents (or block of pairs) and joined in order.
 template <class T, class Body>
 struct BlockSink {
   std::vector<std::vector<T>>& found;
@@ -302,14 +428,12 @@ BlockSink<T, Body> sink(std::vector<std::vector<T>>& found, Body body) {
   return {found, body};
 }
 
-constexpr std::size_t kBlock = 1024;
-
 }  // namespace
 
 std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& topo,
                                                           const DetectSettings& settings) {
   std::vector<std::vector<std::array<std::uint32_t, 2>>> found;
-  for_each_candidate(topo, settings, kBlock, false,
+  for_each_candidate(topo, settings, false,
                      sink(found, [](auto& out, std::uint32_t t, std::uint32_t u, const PairSides&) {
                        out.push_back({t, u});
                      }));
@@ -321,7 +445,7 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
 
 CrossingSet detect_crossings(const SceneTopology& topo, const DetectSettings& settings) {
   std::vector<std::vector<RawCrossing>> found;
-  for_each_candidate(topo, settings, kBlock, true,
+  for_each_candidate(topo, settings, true,
                      sink(found, [&topo](auto& out, std::uint32_t t, std::uint32_t u, const PairSides& sides) {
                        test_owned_edges(topo, t, u, sides.of_t, out);
                        test_owned_edges(topo, u, t, sides.of_u, out);

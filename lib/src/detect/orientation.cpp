@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <utility>
 
 namespace untangle {
@@ -140,8 +141,85 @@ int orient_symbolic(const Vec3& pa, const Vec3& pb, const Vec3& pc, const Vec3& 
   return orient_perturbed(pa, pb, pc, pd, a, b, c, d, false);
 }
 
+namespace {
+
+// Shewchuk's error-free transformations ("Adaptive precision floating-point arithmetic", 1997):
+// x + y == a + b and x * y's error exactly, in round-to-nearest, barring overflow (and, for the
+// product, underflow of its error term).
+inline void two_sum(double a, double b, double& x, double& y) {
+  x = a + b;
+  const double bv = x - a, av = x - bv;
+  y = (a - av) + (b - bv);
+}
+inline void two_product(double a, double b, double& x, double& y) {
+  x = a * b;
+  y = std::fma(a, b, -x);
+}
+
+// Magnitudes for which orient2d_expansion is exact: every product of two components lies between
+// 1e-280 and 1e280, so its error term is a double (no underflow) and no sum overflows.
+bool in_expansion_range(double x) {
+  const double m = std::abs(x);
+  return m == 0.0 || (m >= 1e-140 && m <= 1e140);
+}
+
+}  // namespace
+
+int orient_2d_expansion(double ax, double ay, double bx, double by, double cx, double cy) {
+  // det = (ax - cx)(by - cy) - (ay - cy)(bx - cx), each difference a two-component expansion.
+  std::array<double, 8> d{};
+  two_sum(ax, -cx, d[0], d[1]);
+  two_sum(by, -cy, d[2], d[3]);
+  two_sum(ay, -cy, d[4], d[5]);
+  two_sum(bx, -cx, d[6], d[7]);
+  for (double x : {ax, ay, bx, by, cx, cy})
+    if (!in_expansion_range(x)) return 2;
+  for (double x : d)
+    if (!in_expansion_range(x)) return 2;
+  if (d[1] == 0.0 && d[3] == 0.0 && d[5] == 0.0 && d[7] == 0.0) {
+    // Exact differences (grid points, Sterbenz): compare the two products. Rounding is monotone,
+    // so rounded products that differ order the exact ones; equal ones leave their errors.
+    double p, pe, q, qe;
+    two_product(d[0], d[2], p, pe);
+    two_product(d[4], d[6], q, qe);
+    if (p != q) return p > q ? 1 : -1;
+    return pe > qe ? 1 : pe < qe ? -1 : 0;
+  }
+  // The sixteen exact partial products, summed into a nonoverlapping expansion (grow-expansion
+  // with zero elimination; components in increasing magnitude): its sign is its largest
+  // component's.
+  std::array<double, 17> h{};
+  int size = 0;
+  auto add = [&](double term) {
+    double q = term;
+    int kept = 0;
+    for (int k = 0; k < size; ++k) {
+      double sum, error;
+      two_sum(q, h[k], sum, error);
+      q = sum;
+      if (error != 0.0) h[kept++] = error;
+    }
+    if (q != 0.0) h[kept++] = q;
+    size = kept;
+  };
+  for (int x = 0; x < 2; ++x)
+    for (int y = 0; y < 2; ++y) {
+      double p, pe, q, qe;
+      two_product(d[x], d[2 + y], p, pe);
+      two_product(d[4 + x], d[6 + y], q, qe);
+      add(p);
+      add(pe);
+      add(-q);
+      add(-qe);
+    }
+  if (size == 0) return 0;
+  return h[size - 1] > 0.0 ? 1 : -1;
+}
+
 int orient_2d_exact(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
   const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
+  const int sign = orient_2d_expansion(a[i], a[j], b[i], b[j], c[i], c[j]);
+  if (sign != 2) return sign;
   return static_cast<int>(CGAL::orientation(Kernel::Point_2(a[i], a[j]), Kernel::Point_2(b[i], b[j]),
                                             Kernel::Point_2(c[i], c[j])));
 }

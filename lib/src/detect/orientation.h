@@ -57,9 +57,20 @@ inline int orient_filtered(const Vec3& a, const Vec3& b, const Vec3& c, const Ve
 // CGAL::orientation of the projected points; 0 when collinear there. Three points on a line
 // parallel to an axis are collinear without arithmetic; then Shewchuk's orient2d filter (error
 // bound A: (3 + 16 eps) eps times the sum of the magnitudes of the two products) decides inline,
-// without building points, and CGAL's filtered predicate the rest (orient_2d_exact). Magnitudes
-// near the underflow range, where the bound does not hold, go to CGAL too.
+// without building points, and orient_2d_exact the rest: exact expansion arithmetic
+// (orient_2d_expansion), or CGAL's filtered predicate for magnitudes outside its range.
+// Magnitudes near the underflow range, where the filter's bound does not hold, go there too.
 int orient_2d_exact(const Vec3& a, const Vec3& b, const Vec3& c, int drop);
+
+// The exact sign of (ax - cx)(by - cy) - (ay - cy)(bx - cx) (CGAL::orientation of the points
+// (ax, ay), (bx, by), (cx, cy)) by floating-point expansion arithmetic (Shewchuk 1997: two-sum,
+// two-product by fma): the differences as two-component expansions, their products as sixteen
+// exact terms summed into a nonoverlapping expansion; when the differences are exact (grid
+// points), two products and their errors. Returns 2 (undecided) when a coordinate or difference
+// component is nonzero and outside [1e-140, 1e140], where a product's error could underflow or a
+// sum overflow; orient_2d_exact then asks CGAL. Collinear grid points, where the filter of
+// orient_2d cannot decide, need no CGAL arithmetic.
+int orient_2d_expansion(double ax, double ay, double bx, double by, double cx, double cy);
 inline int orient_2d(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
   const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
   if ((a[i] == b[i] && a[i] == c[i]) || (a[j] == b[j] && a[j] == c[j])) return 0;
@@ -76,26 +87,30 @@ inline int orient_2d(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
 // The exact side of points with respect to a plane normal to an axis: a, b, c have the same
 // coordinate `axis` (bit for bit). Then det[b-a, c-a, d-a] = (d-a)[axis] * (the axis component of
 // (b-a) x (c-a)), so side(d) is CGAL::orientation(a, b, c, d) from one comparison, with the
-// triangle's turn in the plane decided once, when a first point off the plane asks (orient_2d;
-// points in the plane, as for neighbours in a flat sheet, need no turn). Flat sheets make nearly
-// every plane one of these; CGAL's filter would fall back to interval arithmetic on the exact
-// zeros of the minors. The corners must outlive the object; not for use by several threads.
+// triangle's turn in the plane decided once (orient_2d; detection makes it once per triangle, not
+// per pair). Flat sheets make nearly every plane one of these; CGAL's filter would fall back to
+// interval arithmetic on the exact zeros of the minors.
 class AxisPlane {
  public:
   AxisPlane(const Vec3& a, const Vec3& b, const Vec3& c, int axis)
-      : a_(a), b_(b), c_(c), level_(a[axis]), axis_(axis) {}
+      : AxisPlane(a[axis], axis, turn_of(a, b, c, axis)) {}
+  // The plane at coordinate `level` of `axis`, its corners' turn known (turn_of).
+  AxisPlane(double level, int axis, int turn) : level_(level), axis_(axis), turn_(turn) {}
   int side(const Vec3& d) const {
     if (d[axis_] == level_) return 0;
-    if (turn_ == kUnknown) turn_ = orient_2d(a_, b_, c_, axis_) * (axis_ == 1 ? -1 : 1);
     return d[axis_] > level_ ? turn_ : -turn_;
+  }
+  // The sign of the axis component of (b-a) x (c-a), from orient_2d along the axis (or its value
+  // `turn`, made already).
+  static int turn_for(int turn, int axis) { return axis == 1 ? -turn : turn; }
+  static int turn_of(const Vec3& a, const Vec3& b, const Vec3& c, int axis) {
+    return turn_for(orient_2d(a, b, c, axis), axis);
   }
 
  private:
-  static constexpr int kUnknown = 2;
-  const Vec3 &a_, &b_, &c_;
   double level_;
   int axis_;
-  mutable int turn_ = kUnknown;  // sign of the axis component of (b-a) x (c-a)
+  int turn_;
 };
 
 // The perturbed sign alone (exact arithmetic throughout): exposed for tests.

@@ -137,6 +137,45 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
   return index;
 }
 
+std::vector<TriangleBvh::Part> TriangleBvh::split(const TriangleBvh& other, bool self,
+                                                   std::size_t want) const {
+  std::vector<Part> parts;
+  if (nodes_.empty() || other.nodes_.empty()) return parts;
+  parts.push_back({0u, 0u});
+  // Level by level, the first steps of the descent of each_pair_in: each part is replaced by the
+  // parts it would push (a leaf pair, which pushes none, stays), until there are enough.
+  std::vector<Part> next;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pushed;
+  while (parts.size() < want) {
+    bool grew = false;
+    next.clear();
+    for (const Part& p : parts) {
+      const Node& a = nodes_[p.i];
+      const Node& b = other.nodes_[p.j];
+      pushed.clear();
+      if (self && p.i == p.j) {
+        if (a.count == 0) pushed = {{a.left, a.left}, {a.right, a.right}, {a.left, a.right}};
+      } else if (!a.box.overlaps(b.box)) {
+        grew = true;  // nothing below it
+        continue;
+      } else if (a.count == 0 || b.count == 0) {
+        // The children descend() would push, in the order it would visit them.
+        descend(other, p.i, p.j, pushed, [](std::uint32_t, std::uint32_t) {});
+        std::reverse(pushed.begin(), pushed.end());
+      }
+      if (pushed.empty()) {
+        next.push_back(p);
+        continue;
+      }
+      grew = true;
+      for (const auto& [i, j] : pushed) next.push_back({i, j});
+    }
+    parts.swap(next);
+    if (!grew) break;
+  }
+  return parts;
+}
+
 void TriangleBvh::query(const Box3& box, std::vector<std::uint32_t>& out) const {
   if (nodes_.empty()) return;
   std::uint32_t stack[64];

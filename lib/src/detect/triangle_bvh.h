@@ -53,28 +53,37 @@ class TriangleBvh {
   // a simultaneous descent of both trees (deterministic order).
   template <class F>
   void each_pair_with(const TriangleBvh& other, const F& f) const {
-    if (nodes_.empty() || other.nodes_.empty()) return;
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
-    stack.reserve(128);  // about the sum of the two depths
-    stack.push_back({0u, 0u});
-    while (!stack.empty()) {
-      const auto [i, j] = stack.back();
-      stack.pop_back();
-      descend(other, i, j, stack, f);
-    }
+    if (!nodes_.empty() && !other.nodes_.empty()) each_pair_in(other, {0u, 0u}, false, f);
   }
 
   // Calls f(t, u) once for every unordered pair of distinct triangles whose boxes overlap.
   template <class F>
   void each_pair_self(const F& f) const {
-    if (nodes_.empty()) return;
-    // (i, i) means "pairs inside node i"; (i, j) with i != j, pairs across two disjoint nodes.
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack{{0u, 0u}};
+    if (!nodes_.empty()) each_pair_in(*this, {0u, 0u}, true, f);
+  }
+
+  // A simultaneous descent split into independent parts, for parallel loops: node pairs (i of
+  // this tree, j of `other`) whose descents (each_pair_in) together report every pair of
+  // each_pair_with(other), or with `self` (other is this tree) of each_pair_self, exactly once;
+  // (i, i) stands for the pairs inside node i. At least `want` parts where the trees allow it, in
+  // an order that depends only on the trees.
+  struct Part {
+    std::uint32_t i = 0, j = 0;
+  };
+  std::vector<Part> split(const TriangleBvh& other, bool self, std::size_t want) const;
+
+  // The pairs of one part of split(other, self, ...), as each_pair_with or each_pair_self would
+  // report them.
+  template <class F>
+  void each_pair_in(const TriangleBvh& other, Part part, bool self, const F& f) const {
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
+    stack.reserve(128);  // about the sum of the two depths
+    stack.push_back({part.i, part.j});
     while (!stack.empty()) {
       const auto [i, j] = stack.back();
       stack.pop_back();
-      const Node& a = nodes_[i];
-      if (i == j) {
+      if (self && i == j) {
+        const Node& a = nodes_[i];
         if (a.count > 0) {
           for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
             for (std::uint32_t y = x + 1; y < a.first + a.count; ++y)
@@ -86,7 +95,7 @@ class TriangleBvh {
         }
         continue;
       }
-      descend(*this, i, j, stack, f);
+      descend(other, i, j, stack, f);
     }
   }
 
