@@ -8,7 +8,12 @@
 #include "scenes/scenes.h"
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
+  // An option is never taken for OUTDIR (`--help` once wrote every scene into a folder "--help").
+  if (argc == 2 && (std::string(argv[1]) == "-h" || std::string(argv[1]) == "--help")) {
+    std::printf("usage: untangle_gen_scenes OUTDIR\n");
+    return 0;
+  }
+  if (argc != 2 || argv[1][0] == '-') {
     std::fprintf(stderr, "usage: untangle_gen_scenes OUTDIR\n");
     return 2;
   }
