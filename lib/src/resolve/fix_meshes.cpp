@@ -1185,10 +1185,7 @@ class Solver {
     Choice step;
     for (std::uint32_t v : touched) {
       if (scratch.crossing_count[v] == 0 || !free_[v] || measured_[v] || moves.has_region[v]) continue;
-      Vec3 d = scale(scratch.crossing[v], 1.0 / scratch.crossing_count[v]);
-      const double len = norm(d), cap = options_.max_step * vertex_edge_[v];
-      if (len > cap) d = scale(d, cap / len);
-      Vec3 at = add(topo_.points[v], d);
+      Vec3 at = add(topo_.points[v], crossing_step(scratch, v));
       if (round_) at = round_(at);
       if (at == topo_.points[v]) continue;
       step.part.push_back(v);
@@ -1302,6 +1299,14 @@ class Solver {
     }
   }
 
+  // Vertex v's per-crossing step: the mean of its crossing moves, at most max_step times its mean
+  // incident edge length.
+  Vec3 crossing_step(const Moves& moves, std::uint32_t v) const {
+    const Vec3 d = scale(moves.crossing[v], 1.0 / moves.crossing_count[v]);
+    const double len = norm(d), cap = options_.max_step * vertex_edge_[v];
+    return len > cap ? scale(d, cap / len) : d;
+  }
+
   // Applies the moves with a per-vertex cap and a guard against inverted triangles.
   bool apply(const Moves& moves) {
     const std::size_t nv = topo_.points.size();
@@ -1309,13 +1314,10 @@ class Solver {
     std::vector<std::uint8_t> active(nv, 0);
     for (std::uint32_t v = 0; v < nv; ++v) {
       if (!free_[v]) continue;
+      // A region moves whole, as far as it must; per-crossing steps are capped.
       Vec3 d{0, 0, 0};
       if (moves.has_region[v]) d = moves.region[v];
-      else if (moves.crossing_count[v] > 0) d = scale(moves.crossing[v], 1.0 / moves.crossing_count[v]);
-      // Per-crossing steps are capped; a region moves whole, as far as it must.
-      const double len = norm(d);
-      const double cap = options_.max_step * vertex_edge_[v];
-      if (!moves.has_region[v] && len > cap) d = scale(d, cap / len);
+      else if (moves.crossing_count[v] > 0) d = crossing_step(moves, v);
       if (norm(d) == 0.0) continue;
       delta[v] = d;
       active[v] = 1;
