@@ -10,6 +10,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <map>
 #include <memory>
@@ -100,6 +101,9 @@ struct Moves {
 // Rings of neighbours around the other track's crossings that stand for "the other surface" of
 // a self contour.
 constexpr int kPatchRings = 3;
+// How far (in mean edge lengths) a vertex of the outer layer that dips through the inner one is
+// still laid back on its side.
+constexpr double kLayerReach = 2.0;
 // The largest set of vertices whose moves are measured before they are made (TrialMove).
 constexpr std::size_t kMeasuredVertices = 2500;
 
@@ -144,6 +148,10 @@ class Solver {
       region_settings_.obstacle.push_back(obstacle);
     }
     region_settings_.orientation = closed_orientations(topo_);
+    oriented_.assign(topo_.component_mesh.size(), 0);
+    orientation_ = face_orientations(topo_);
+    for (std::uint32_t t = 0; t < topo_.tris.size(); ++t)
+      if (orientation_[t] != 0) oriented_[topo_.tri_component(t)] = 1;
     moved_.assign(nv, 0);
     component_size_.assign(topo_.component_mesh.size(), 0);
     for (std::uint32_t v = 0; v < nv; ++v) ++component_size_[topo_.vertex_component[v]];
@@ -279,11 +287,15 @@ class Solver {
     auto movable = [&](std::uint32_t component) {
       return meshes_[topo_.component_mesh[component]].role == Role::kMovable;
     };
+    const auto parallel = parallel_crossings(set, traced);
+    const auto layered = options_.method == FixMethod::kRegion ? layered_pairs(parallel)
+                                                               : decltype(layered_pairs(parallel)){};
     std::vector<const IllegalSet*> moving;
     for (const IllegalSet& s : analysis.illegal) {
       // A component against itself has no other surface to move across: its labels steer the
-      // crossing rule.
+      // crossing rule. Layers keep their order instead (lay_layer).
       if (!movable(s.component) || s.component == s.partner) continue;
+      if (layered.count({std::min(s.component, s.partner), std::max(s.component, s.partner)})) continue;
       bool smaller = true;
       for (const IllegalSet& o : analysis.illegal) {
         if (o.component == s.partner && o.partner == s.component && movable(o.component) &&
@@ -309,7 +321,7 @@ class Solver {
                      s->vertices, tree, moves);
       }
       for (const TracedContour& t : traced) self_contour_move(set, t, analysis, in_moving_set, moves);
-      separate_coincident_layers(set, traced, analysis, in_moving_set, moves);
+      separate_coincident_layers(parallel, layered, analysis, in_moving_set, moves);
       for (const TracedContour& t : traced) flap_move(set, t, trees, in_moving_set, moves);
     }
 
@@ -326,6 +338,10 @@ class Solver {
         }
       }
       if (covered) continue;
+      // Layers are laid, not sheared: the per-crossing rule would push the inner layer into
+      // what lies beneath it.
+      const std::uint32_t ca = track_component(topo_, set, t, 0), cb = track_component(topo_, set, t, 1);
+      if (layered.count({std::min(ca, cb), std::max(ca, cb)})) continue;
       // The second stage makes only measured moves on self contours: on a finely subdivided fold
       // the per-crossing rule's shear is what tangles it further.
       if (pieces_ && c.self) measured_crossing_move(set, t, analysis, in_moving_set, moves);
@@ -351,15 +367,11 @@ class Solver {
     return *tree;
   }
 
-  // Two components that cross but where neither side has an illegal region (a garment and an
-  // exact or nearly exact copy of it; sheets lying in one plane): the contours separate nothing, so
-  // the layers are told apart by index. The movable component with the higher index is laid on the
-  // positive side of the other (its own face normals) at the clearance, wherever it is closer than
-  // half an edge.
-  void separate_coincident_layers(const CrossingSet& set, const std::vector<TracedContour>& traced,
-                                  const RegionAnalysis& analysis,
-                                  std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
-    // Per pair of components: how many of their crossings join nearly parallel faces.
+  // Per pair of different components that cross (lower index first): how many of their crossings
+  // join nearly parallel faces (|cos| > 0.95 between the face's normal and that of a face on the
+  // crossing edge), and how many crossings they have.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<std::size_t, 2>> parallel_crossings(
+      const CrossingSet& set, const std::vector<TracedContour>& traced) const {
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<std::size_t, 2>> parallel;
     for (const TracedContour& t : traced) {
       const std::uint32_t a = track_component(topo_, set, t, 0);
@@ -374,47 +386,261 @@ class Solver {
         if (std::abs(dot(nf, ne)) > 0.95) ++count[0];
       }
     }
+    return parallel;
+  }
+
+  bool movable_component(std::uint32_t c) const {
+    return meshes_[topo_.component_mesh[c]].role == Role::kMovable;
+  }
+
+  // Layers: two movable, open, orientable components at least half of whose crossings join
+  // nearly parallel faces, and whose vertices near each other lie on both sides of each other
+  // with no clear majority (interleaved: a dress over a t-shirt, made for the same body at the
+  // same offset). Their contours are the noise of two surfaces a fraction of an edge apart, so
+  // the area rule has no large legal region to trust; the order of most of their overlap is kept
+  // instead (lay_layer). Layers with a clear majority (a shirt's hem over the trousers' waist) are
+  // left to the area rule, which also moves their deep dips whole.
+  std::set<std::pair<std::uint32_t, std::uint32_t>> layered_pairs(
+      const std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<std::size_t, 2>>& parallel) {
+    std::set<std::pair<std::uint32_t, std::uint32_t>> out;
+    for (const auto& [key, count] : parallel) {
+      // Decided once, where first seen: as the layers part, their last crossings need not be
+      // parallel nor their vertices interleaved.
+      auto found = layer_orders_.find(key);
+      if (found == layer_orders_.end()) {
+        if (2 * count[0] < count[1]) continue;
+        // A closed surface (a ball through a sheet) is not a layer, however flat the crossing.
+        auto layer = [&](std::uint32_t c) {
+          return movable_component(c) && oriented_[c] && region_settings_.orientation[c] == 0;
+        };
+        if (!layer(key.first) || !layer(key.second)) continue;
+        found = layer_orders_.emplace(key, decide_layer_order(key.first, key.second)).first;
+      }
+      if (found->second.interleaved) out.insert(key);
+    }
+    return out;
+  }
+
+  // A vertex of one component near another: its closest point there, that face's normal, the
+  // signed distance along it.
+  struct NearPoint {
+    std::uint32_t v;
+    std::uint32_t face;
+    Vec3 c, n;
+    double side;
+  };
+
+  // The vertices of `component` within `near` of `tree`, and the vote of their sides (+1 for each
+  // on the positive side of the closest face, -1 for each on the negative side).
+  std::vector<NearPoint> near_points(std::uint32_t component, const MeshTree& tree, double near,
+                                     long long& vote) const {
+    std::vector<NearPoint> out;
+    vote = 0;
+    const std::uint32_t mesh = topo_.component_mesh[component];
+    for (std::uint32_t v = topo_.mesh_vertex_begin[mesh]; v < topo_.mesh_vertex_begin[mesh + 1]; ++v) {
+      if (topo_.vertex_component[v] != component) continue;
+      const Vec3& p = topo_.points[v];
+      const auto hit = tree.tree.closest_point_and_primitive(Kernel::Point_3(p[0], p[1], p[2]));
+      const Vec3 c{hit.first.x(), hit.first.y(), hit.first.z()};
+      if (norm(sub(p, c)) > near) continue;
+      const std::uint32_t face = tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
+      const Vec3 n = scale(face_normal(topo_, face), orientation_[face] < 0 ? -1.0 : 1.0);
+      const double side = dot(sub(p, c), n);
+      vote += side > 0 ? 1 : side < 0 ? -1 : 0;
+      out.push_back({v, face, c, n, side});
+    }
+    return out;
+  }
+
+  // Whether point `c` on triangle t lies on one of its boundary edges (the mesh's hem).
+  bool on_boundary(std::uint32_t t, const Vec3& c) const {
+    for (std::uint32_t e : topo_.tri_edges[t]) {
+      if (!topo_.is_boundary(e)) continue;
+      const Vec3& a = topo_.points[topo_.edges[e][0]];
+      const Vec3 ab = sub(topo_.points[topo_.edges[e][1]], a);
+      const double len2 = dot(ab, ab);
+      const double u = len2 > 0.0 ? std::clamp(dot(sub(c, a), ab) / len2, 0.0, 1.0) : 0.0;
+      if (norm(sub(c, add(a, scale(ab, u)))) <= 1e-9 * std::sqrt(len2)) return true;
+    }
+    return false;
+  }
+
+  // The normal of vertex v: the sum of its faces' area vectors, each turned by its orientation
+  // sign (face_orientations).
+  Vec3 oriented_vertex_normal(std::uint32_t v) const {
+    Vec3 sum{0.0, 0.0, 0.0};
+    for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+      const std::uint32_t e = topo_.vertex_edges[j];
+      for (std::uint32_t k = topo_.edge_face_begin[e]; k < topo_.edge_face_begin[e + 1]; ++k) {
+        const std::uint32_t t = topo_.edge_faces[k];
+        const auto& tri = topo_.tris[t];
+        const Vec3 area = cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
+                                sub(topo_.points[tri[2]], topo_.points[tri[0]]));
+        sum = add(sum, scale(area, orientation_[t] < 0 ? -1.0 : 1.0));  // each face twice: no matter
+      }
+    }
+    return unit(sum);
+  }
+
+  // The point of the nearest closed obstacle component to `p`, if the scene has one.
+  bool nearest_obstacle_point(const Vec3& p, Vec3& out) {
+    double best = INFINITY;
+    std::map<std::uint32_t, std::unique_ptr<MeshTree>> unused;
+    for (std::uint32_t c = 0; c < topo_.component_mesh.size(); ++c) {
+      if (movable_component(c) || region_settings_.orientation[c] == 0) continue;
+      const MeshTree& tree = component_tree(c, unused);
+      if (tree.triangles.empty()) continue;
+      const auto q = tree.tree.closest_point(Kernel::Point_3(p[0], p[1], p[2]));
+      const Vec3 point{q.x(), q.y(), q.z()};
+      const double d = norm(sub(p, point));
+      if (d < best) {
+        best = d;
+        out = point;
+      }
+    }
+    return std::isfinite(best);
+  }
+
+  // The order of a pair of layers, decided once from the positions where it is first seen: which
+  // component moves (the outer one) and on which side of the other it goes.
+  struct LayerOrder {
+    bool interleaved = false;  // no clear majority of sides: lay_layer rather than the area rule
+    std::uint32_t mover = 0;
+    double side = 1.0;  // the mover's side of the other's faces
+    double other_side = 0.0;  // the other's side of the mover's faces (0: no majority)
+  };
+
+  LayerOrder decide_layer_order(std::uint32_t a, std::uint32_t b) {
+    std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;
+    const MeshTree& tree_a = component_tree(a, trees);
+    const MeshTree& tree_b = component_tree(b, trees);
+    if (tree_a.triangles.empty() || tree_b.triangles.empty()) return {};
+    const double near_a = 0.5 * mean_edge_[topo_.component_mesh[a]];
+    const double near_b = 0.5 * mean_edge_[topo_.component_mesh[b]];
+    long long vote_a = 0, vote_b = 0;
+    const std::vector<NearPoint> a_near = near_points(a, tree_b, near_a, vote_a);
+    const std::vector<NearPoint> b_near = near_points(b, tree_a, near_b, vote_b);
+    // The order kept is the one most near vertices have: b lies on side `vote_b` of a. Around a
+    // closed obstacle (a body) the outer layer moves and the inner one stays against the body:
+    // a's faces near b face away from the body (their normals point away from its nearest point)
+    // mostly on side `outward`, and b is outer when it lies on that side. Without an obstacle the
+    // component with the higher index moves.
+    long long outward = 0;
+    for (const NearPoint& x : b_near) {
+      Vec3 body{};
+      if (!nearest_obstacle_point(x.c, body)) break;
+      const double away = dot(x.n, sub(x.c, body));
+      outward += away > 0 ? 1 : away < 0 ? -1 : 0;
+    }
+    const double b_side = vote_b < 0 ? -1.0 : 1.0;
+    const bool a_moves = outward != 0 && (outward > 0 ? 1.0 : -1.0) != b_side;
+    LayerOrder order;
+    order.mover = a_moves ? a : b;
+    const long long vote = a_moves ? vote_a : vote_b;
+    // An exact copy has no majority and goes to the positive side.
+    order.side = vote < 0 ? -1.0 : 1.0;
+    // The other lies on the opposite side of the mover when their faces point the same way where
+    // they are near, on the same side otherwise: the two sides follow from one vote, as they must.
+    long long aligned = 0;
+    for (const NearPoint& x : a_moves ? a_near : b_near) {
+      const double c = dot(oriented_vertex_normal(x.v), x.n);
+      aligned += c > 0 ? 1 : c < 0 ? -1 : 0;
+    }
+    order.other_side = aligned == 0 ? 0.0 : aligned > 0 ? -order.side : order.side;
+    // Interleaved: a quarter or more of the near vertices on the minority side.
+    const std::size_t near = a_near.size() + b_near.size();
+    order.interleaved = near > 0 && 2 * static_cast<std::size_t>(std::llabs(vote_a) + std::llabs(vote_b)) <= near;
+    return order;
+  }
+
+  // Lays the outer component of a layered pair (layered_pairs) on its side of the inner one at
+  // the clearance: every vertex of it closer than half an edge and not that far on its side goes
+  // to the closest point plus the clearance; the corners of its faces that a vertex of the inner
+  // one comes closer to than the clearance (a bulge poking through a flat triangle) move away by
+  // the difference.
+  void lay_layer(std::uint32_t a, std::uint32_t b, std::vector<std::uint8_t>& in_moving_set,
+                 Moves& moves) {
+    std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;
+    const MeshTree& tree_a = component_tree(a, trees);
+    const MeshTree& tree_b = component_tree(b, trees);
+    if (tree_a.triangles.empty() || tree_b.triangles.empty()) return;
+    const LayerOrder& order = layer_orders_.at({a, b});
+    const std::uint32_t mover = order.mover;
+    const std::uint32_t other = mover == a ? b : a;
+    const MeshTree& mover_tree = mover == a ? tree_a : tree_b;
+    const MeshTree& other_tree = mover == a ? tree_b : tree_a;
+    const std::uint32_t mesh = topo_.component_mesh[mover];
+    const double clearance = options_.clearance * mean_edge_[mesh];
+    long long unused = 0;
+    std::map<std::uint32_t, Vec3> delta;  // ordered: the result does not depend on hashing
+    const double near = 0.5 * mean_edge_[mesh];
+    for (const NearPoint& x : near_points(mover, other_tree, kLayerReach * mean_edge_[mesh], unused)) {
+      // Half the clearance is enough to leave a vertex alone (one laid at the clearance stays).
+      if (order.side * x.side >= 0.5 * clearance) continue;
+      // A vertex on the wrong side whose closest point is the other's hem lies past it (a collar
+      // above a lower neckline), not over it: it is left alone. Beyond half an edge only a dip
+      // through the other's faces is laid back.
+      const bool past_hem = order.side * x.side < 0.0 && on_boundary(x.face, x.c);
+      if (past_hem || (norm(sub(topo_.points[x.v], x.c)) > near && order.side * x.side >= 0.0)) continue;
+      delta[x.v] = sub(add(x.c, scale(x.n, order.side * clearance)), topo_.points[x.v]);
+    }
+    if (order.other_side != 0.0) {
+      const std::uint32_t other_mesh = topo_.component_mesh[other];
+      for (const NearPoint& x :
+           near_points(other, mover_tree, 0.5 * mean_edge_[other_mesh], unused)) {
+        const double gap = order.other_side * x.side;
+        if (gap >= 0.5 * clearance) continue;
+        const Vec3 push = scale(x.n, -order.other_side * (clearance - gap));
+        const Vec3 along = unit(push);
+        const double length = clearance - gap;
+        for (std::uint32_t v : topo_.tris[x.face]) {
+          Vec3& d = delta[v];
+          const double have = dot(d, along);
+          if (have < length) d = add(d, scale(along, length - have));
+        }
+      }
+    }
+    for (const auto& [v, d] : delta) {
+      if (!free_[v] || moves.has_region[v]) continue;
+      moves.region[v] = d;
+      moves.has_region[v] = 1;
+      in_moving_set[v] = 1;
+    }
+  }
+
+  // Two components that cross but where neither side has an illegal region (a garment and an
+  // exact or nearly exact copy of it; sheets lying in one plane; a garment lying on an obstacle):
+  // the contours separate nothing, so the layers are told apart by index. The movable component
+  // with the higher index is laid on the side of the other where most of its near vertices lie
+  // (an exact copy: the positive side of the other's face normals) at the clearance, wherever it
+  // is closer than half an edge. Layered pairs of movable components go to lay_layer instead.
+  void separate_coincident_layers(
+      const std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<std::size_t, 2>>& parallel,
+      const std::set<std::pair<std::uint32_t, std::uint32_t>>& layered, const RegionAnalysis& analysis,
+      std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
     for (const auto& [key, count] : parallel) {
       const auto [a, b] = key;
+      if (layered.count(key)) {
+        lay_layer(a, b, in_moving_set, moves);
+        continue;
+      }
       if (2 * count[0] < count[1]) continue;  // surfaces crossing at an angle: not layers
       bool decided = false;
       for (const IllegalSet& s : analysis.illegal)
         if ((s.component == a && s.partner == b) || (s.component == b && s.partner == a)) decided = true;
       if (decided) continue;
-      const bool a_movable = meshes_[topo_.component_mesh[a]].role == Role::kMovable;
-      const bool b_movable = meshes_[topo_.component_mesh[b]].role == Role::kMovable;
-      if (!a_movable && !b_movable) continue;
-      const std::uint32_t mover = b_movable ? b : a;
+      if (!movable_component(a) && !movable_component(b)) continue;
+      const std::uint32_t mover = movable_component(b) ? b : a;
       const std::uint32_t other = mover == b ? a : b;
       const std::uint32_t mesh = topo_.component_mesh[mover];
       std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;
       const MeshTree* tree = &component_tree(other, trees);
       if (tree->triangles.empty()) continue;
-      const double near = 0.5 * mean_edge_[mesh];
       const double clearance = options_.clearance * mean_edge_[mesh];
-      // The side the near vertices mostly lie on is kept (layer order); an exact copy has no
-      // majority and goes to the positive side.
-      struct Near {
-        std::uint32_t v;
-        Vec3 c, n;
-        double side;
-      };
-      std::vector<Near> close;
       long long vote = 0;
-      for (std::uint32_t v = topo_.mesh_vertex_begin[mesh]; v < topo_.mesh_vertex_begin[mesh + 1]; ++v) {
-        if (topo_.vertex_component[v] != mover) continue;
-        const Vec3& p = topo_.points[v];
-        const auto hit = tree->tree.closest_point_and_primitive(Kernel::Point_3(p[0], p[1], p[2]));
-        const Vec3 c{hit.first.x(), hit.first.y(), hit.first.z()};
-        if (norm(sub(p, c)) > near) continue;
-        const std::uint32_t face = tree->ids[static_cast<std::size_t>(hit.second - tree->triangles.begin())];
-        const Vec3 n = face_normal(topo_, face);
-        const double side = dot(sub(p, c), n);
-        vote += side > 0 ? 1 : side < 0 ? -1 : 0;
-        close.push_back({v, c, n, side});
-      }
+      const std::vector<NearPoint> close = near_points(mover, *tree, 0.5 * mean_edge_[mesh], vote);
       const double sign = vote < 0 ? -1.0 : 1.0;
-      for (const Near& x : close) {
+      for (const NearPoint& x : close) {
         if (!free_[x.v] || moves.has_region[x.v] || sign * x.side >= clearance) continue;
         moves.region[x.v] = sub(add(x.c, scale(x.n, sign * clearance)), topo_.points[x.v]);
         moves.has_region[x.v] = 1;
@@ -1461,6 +1687,10 @@ class Solver {
   std::vector<std::uint32_t> measured_list_;
   std::vector<Vec3> normal_;                 // between calls
   std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
+  std::vector<std::int8_t> orientation_;  // per triangle: face_orientations
+  std::vector<std::uint8_t> oriented_;     // per component: orientable (face_orientations)
+  // Per layered pair (lower component first): its order, decided where it is first seen.
+  std::map<std::pair<std::uint32_t, std::uint32_t>, LayerOrder> layer_orders_;
 };
 
 
