@@ -103,7 +103,8 @@ constexpr double kBodyScale = 1.02;
 
 // Every garment/body pair of a MakeHuman-style folder: DIR/garments/<prefix>_*.obj against
 // DIR/bodies/<prefix>_generic.obj, once with the body as shipped and once scaled by 1.02 about its
-// centre (deeper penetrations; written under `folder`). Sorted by garment name.
+// centre (deeper penetrations; written under `folder`), sorted by garment name; then every two
+// garments for one body worn together on it.
 std::vector<BenchCase> data_cases(const std::string& dir, const fs::path& folder,
                                   std::vector<std::string>& notes) {
   const fs::path garments_dir = fs::path(dir) / "garments";
@@ -143,6 +144,16 @@ std::vector<BenchCase> data_cases(const std::string& dir, const fs::path& folder
     const std::string name = fs::path(garment).stem().string();
     cases.push_back({name, "data", {garment}, {body}});
     cases.push_back({name + "_x1.02", "data", {garment}, scaled[body]});
+  }
+  // Layers: every two garments made for one body, worn together on it (the first in name order
+  // listed first), with the body as shipped.
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    for (std::size_t j = i + 1; j < pairs.size(); ++j) {
+      if (pairs[i].second != pairs[j].second) continue;
+      cases.push_back({fs::path(pairs[i].first).stem().string() + "+" +
+                           fs::path(pairs[j].first).stem().string(),
+                       "data", {pairs[i].first, pairs[j].first}, {pairs[i].second}});
+    }
   }
   return cases;
 }

@@ -270,7 +270,7 @@ int main(int argc, char** argv) {
                     "Write DIR/<scene>.csv and DIR/<scene>.svg: crossings and contour length per iteration against elapsed ms")
       ->option_text("DIR");
   bench->add_option("--data", bench_options.data_dir,
-                    "Also every garment DIR/garments/<prefix>_*.obj against DIR/bodies/<prefix>_generic.obj (as shipped and scaled 1.02)")
+                    "Also every garment DIR/garments/<prefix>_*.obj against DIR/bodies/<prefix>_generic.obj (as shipped and scaled 1.02), and every two garments for one body worn together")
       ->option_text("DIR");
   bench->add_flag("--json", bench_options.json, "Print the tables and histories as JSON on stdout instead");
   bench->add_flag("--quick", bench_options.quick, "The small suite: four small scenes, accuracy on one");

@@ -398,6 +398,25 @@ Scene three_layers(int slices, int rings) {
   return scene;
 }
 
+Scene interleaved_layers(int slices, int rings) {
+  Scene scene;
+  scene.name = "interleaved_layers";
+  // The dress is 0.002 outside the t-shirt on average; its gentle wobble (0.01, slopes under
+  // 10 degrees) takes about two fifths of it inside, in patches all over.
+  scene.movable.push_back(with_radius(
+      open_tube({0.0, 0.0, 0.0}, 0.9, 2.2, slices, rings, "dress"), [](double phi, double z) {
+        const double w = kPi * z / 2.2;
+        return 0.902 + 0.01 * (0.6 * std::sin(6.0 * phi + 0.37) * std::sin(4.0 * w + 0.21) +
+                               0.4 * std::sin(9.0 * phi + 1.1) * std::sin(6.0 * w + 0.7));
+      }));
+  // The t-shirt: other vertex counts, so that no vertex of one lies on the other.
+  scene.movable.push_back(open_tube({0.0, 0.0, 0.0}, 0.9, 2.0, slices - 7, rings - 3, "t-shirt"));
+  Mesh body = capsule({0.0, 0.0, 0.0}, 0.8, 2.4, slices, rings, "body");
+  body.role = Role::kObstacle;
+  scene.obstacles.push_back(body);
+  return scene;
+}
+
 Mesh self_intersecting_obstacle(int slices) {
   const Mesh along_y =
       rotated(capsule({0.0, 0.0, 0.0}, 0.5, 1.6, slices, 9, "a"), 0, 0.5 * kPi, {0.0, 0.0, 0.0});

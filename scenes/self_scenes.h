@@ -68,6 +68,12 @@ Mesh pinched_tube(int slices, int rings);
 // dips through the body in a third. Legal order everywhere else: dress outside t-shirt outside
 // body.
 Scene three_layers(int slices, int rings);
+// Two layers made for one body at one offset: an open "dress" tube (radius 0.902 on average, a
+// gentle wobble of 0.01) over an open "t-shirt" tube (radius 0.9), over a closed capsule "body"
+// (radius 0.8, obstacle). About two fifths of the dress lies inside the t-shirt, in patches all
+// over: the two cross everywhere at a small angle, the way MakeHuman's dress and t-shirt for one
+// body do.
+Scene interleaved_layers(int slices, int rings);
 // Two overlapping capsules (one along y, one along x, their caps and walls crossing) as one closed
 // but self-intersecting mesh.
 Mesh self_intersecting_obstacle(int slices);
