@@ -25,7 +25,9 @@ Intersections summarize_crossings(const SceneTopology& topo, const CrossingSet& 
     out.point = c.point;
     result.crossings.push_back(out);
   }
-  for (const auto& pair : intersecting_pairs(topo, set)) {
+  const std::vector<std::array<std::uint32_t, 2>> pairs = intersecting_pairs(topo, set);
+  result.triangle_pairs.reserve(pairs.size());
+  for (const auto& pair : pairs) {
     std::array<std::uint32_t, 4> p{topo.tri_mesh[pair[0]], topo.tri_source[pair[0]],
                                    topo.tri_mesh[pair[1]], topo.tri_source[pair[1]]};
     if (std::make_pair(p[2], p[3]) < std::make_pair(p[0], p[1])) {
@@ -34,7 +36,10 @@ Intersections summarize_crossings(const SceneTopology& topo, const CrossingSet& 
     }
     result.triangle_pairs.push_back(p);
   }
-  std::sort(result.triangle_pairs.begin(), result.triangle_pairs.end());
+  // Triangles are numbered mesh by mesh in input order, so (mesh, triangle) grows with the id and
+  // the pairs come out sorted already; sorted again only if that ever changes.
+  if (!std::is_sorted(result.triangle_pairs.begin(), result.triangle_pairs.end()))
+    std::sort(result.triangle_pairs.begin(), result.triangle_pairs.end());
 
   result.counts.crossings = result.crossings.size();
   result.counts.triangle_pairs = result.triangle_pairs.size();
