@@ -46,7 +46,8 @@ Intersections summarize_crossings(const SceneTopology& topo, const CrossingSet& 
   return result;
 }
 
-void add_contours(const std::vector<TracedContour>& traced, Intersections& result) {
+void add_contours(const std::vector<TracedContour>& traced, Intersections& result,
+                  bool separation) {
   IntersectionCounts& counts = result.counts;
   counts.contours = traced.size();
   for (const TracedContour& t : traced) {
@@ -58,7 +59,8 @@ void add_contours(const std::vector<TracedContour>& traced, Intersections& resul
     if (t.broken) ++counts.broken;
     for (const Track& track : c.tracks) {
       ++counts.tracks[static_cast<int>(track.type)];
-      if ((track.type == TrackType::kCL || track.type == TrackType::kBB) && !track.separates)
+      if (separation && (track.type == TrackType::kCL || track.type == TrackType::kBB) &&
+          !track.separates)
         ++counts.non_separating;
     }
     const TrackType a = c.tracks[0].type, b = c.tracks[1].type;

@@ -320,9 +320,9 @@ double side_area(const SceneTopology& topo, const std::uint32_t* side, std::size
   return area;
 }
 
-// Type, cut edges and separation of track k of a traced contour.
+// Type, cut edges and (when `separation`) separation of track k of a traced contour.
 void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedContour& traced, int k,
-                    SeparationScratch& scratch) {
+                    bool separation, SeparationScratch& scratch) {
   Contour& contour = traced.contour;
   Track& track = contour.tracks[k];
   if (contour.closed) track.type = TrackType::kCL;
@@ -336,7 +336,7 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
     if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
   const std::vector<std::uint32_t> odd = odd_edges(edges);
   track.cut_edges = odd.size();
-  if (track.type != TrackType::kCL && track.type != TrackType::kBB) return;
+  if (!separation || (track.type != TrackType::kCL && track.type != TrackType::kBB)) return;
   if (odd.empty()) {  // cuts off no vertex: a disk inside faces, or a sliver at the boundary
     track.separates = true;
     return;
@@ -374,7 +374,8 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
 
 }  // namespace
 
-std::vector<TracedContour> build_contours(const SceneTopology& topo, const CrossingSet& set, int threads) {
+std::vector<TracedContour> build_contours(const SceneTopology& topo, const CrossingSet& set,
+                                          int threads, bool separation) {
   const std::size_t n = set.items.size();
   // Links of every crossing, one per triangle incident to its edge (boundary edges add an end).
   std::vector<std::uint32_t> link_begin;
@@ -551,7 +552,8 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
   tbb::enumerable_thread_specific<SeparationScratch> scratches;
   auto classify = [&](std::size_t begin, std::size_t end) {
     SeparationScratch& scratch = scratches.local();
-    for (std::size_t j = begin; j < end; ++j) classify_track(topo, set, out[jobs[j][0]], jobs[j][1], scratch);
+    for (std::size_t j = begin; j < end; ++j)
+      classify_track(topo, set, out[jobs[j][0]], jobs[j][1], separation, scratch);
   };
   run_parallel(jobs.size() < 2 ? 1 : threads, jobs.size(), 1, classify);
   return out;
