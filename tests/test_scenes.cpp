@@ -28,6 +28,11 @@ namespace {
 
 using scenes::Scene;
 
+// Why the cow's tests are skipped when they are.
+constexpr const char* kNoCow =
+    "cow.off of Debian's libcgal-demo is not installed (/usr/share/doc/libcgal-demo/data.tar.gz); "
+    "install libcgal-demo and re-run cmake to test on the cow";
+
 // ---- mesh helpers ----
 
 struct Shape {
@@ -354,11 +359,7 @@ TEST(SceneContours, SheetOnSpikes) {
 // The sheet spans 1.2 times the cow's box across its middle: every sheet-cow curve is closed on
 // both (the cow is closed, the sheet's boundary lies outside it).
 TEST(SceneContours, SheetThroughCow) {
-  if (scenes::cow_path().empty()) {
-    GTEST_SKIP() << "cow.off of Debian's libcgal-demo is not installed "
-                    "(/usr/share/doc/libcgal-demo/data.tar.gz); install libcgal-demo and re-run "
-                    "cmake to test on the cow";
-  }
+  if (scenes::cow_path().empty()) GTEST_SKIP() << kNoCow;
   const Scene scene = scenes::sheet_through_cow(40);
   ASSERT_EQ(scene.movable.size(), 1u);
   ASSERT_GE(scene.obstacles.size(), 1u);
@@ -459,11 +460,7 @@ INSTANTIATE_TEST_SUITE_P(Scenes, ScenePermuted,
                          });
 
 TEST(ScenePermuted, SheetThroughCow) {
-  if (scenes::cow_path().empty()) {
-    GTEST_SKIP() << "cow.off of Debian's libcgal-demo is not installed "
-                    "(/usr/share/doc/libcgal-demo/data.tar.gz); install libcgal-demo and re-run "
-                    "cmake to test on the cow";
-  }
+  if (scenes::cow_path().empty()) GTEST_SKIP() << kNoCow;
   expect_order_independent(scenes::scene_meshes(scenes::sheet_through_cow(40)));
 }
 
@@ -519,26 +516,17 @@ void expect_same_without_separation(const std::vector<Mesh>& meshes, DetectOptio
   }
 }
 
-class SceneWithoutSeparation : public ::testing::TestWithParam<std::size_t> {};
-
-TEST_P(SceneWithoutSeparation, SameContoursAndTypes) {
-  expect_same_without_separation(scenes::scene_meshes(scenes::named_scenes()[GetParam()]));
+TEST(SceneWithoutSeparation, EveryNamedScene) {
+  for (const Scene& scene : scenes::named_scenes()) {
+    SCOPED_TRACE(scene.name);
+    expect_same_without_separation(scenes::scene_meshes(scene));
+  }
 }
-
-INSTANTIATE_TEST_SUITE_P(Scenes, SceneWithoutSeparation,
-                         ::testing::Range<std::size_t>(0, scenes::named_scenes().size()),
-                         [](const ::testing::TestParamInfo<std::size_t>& info) {
-                           return scenes::named_scenes()[info.param].name;
-                         });
 
 // The benchmark's scene (bench/bench_detect.cpp): between the meshes only, as there, and with
 // self-intersections; both tracks of its contour separate when the floods run.
 TEST(SceneWithoutSeparation, SheetThroughCow) {
-  if (scenes::cow_path().empty()) {
-    GTEST_SKIP() << "cow.off of Debian's libcgal-demo is not installed "
-                    "(/usr/share/doc/libcgal-demo/data.tar.gz); install libcgal-demo and re-run "
-                    "cmake to test on the cow";
-  }
+  if (scenes::cow_path().empty()) GTEST_SKIP() << kNoCow;
   const std::vector<Mesh> meshes = scenes::scene_meshes(scenes::sheet_through_cow(81));
   DetectOptions between;
   between.self_intersections = false;
