@@ -3,7 +3,8 @@
 //
 // Usage: untangle_bench_detect [--quick]
 //   --quick  only n = 81, 9 repeats (default: n in {41, 81, 121, 161, 201, 281}, 5 repeats)
-// Exit status: 0 success; 1 the cow is not installed (libcgal-demo); 2 pair counts disagree.
+// Exit status: 0 success; 1 the cow is not installed (libcgal-demo); 2 pair counts disagree (or
+// the contours with and without the separation floods).
 //
 // What is compared (DESIGN §9: targets are ratios against CGAL on the same meshes):
 // - pairs: our detection stage (DetectTimings::detect_ms: welding/topology, broad and narrow
@@ -13,6 +14,10 @@
 //   ("CGAL face-face") is listed too;
 // - curves: the whole of find_intersections (detection + contours + classification) against
 //   PMP::surface_intersection (polylines of sheet ∩ cow, corefinement's intersection graph).
+//   Between the meshes it is timed twice: with the separation floods of the contours' tracks and
+//   the smaller side's area (the default; region analysis, DESIGN §4, which CGAL's routine does not
+//   do) and without them (DetectOptions::separation off: detection, linking crossings into
+//   contours and track types, what surface_intersection's polylines amount to).
 // CGAL's input conversion to Surface_mesh (welding included) is done once, outside the timings;
 // ours welds inside every timed call. Times are wall-clock (std::chrono::steady_clock), best and
 // median over the repeats; ratios are CGAL median / our median (> 1: we are faster), and for the
@@ -69,10 +74,12 @@ struct OursSamples {
   std::vector<double> total, detect, contours, prepared;
   untangle::Intersections result;
 
-  void run_once(const std::vector<untangle::Mesh>& meshes, int threads, bool self) {
+  void run_once(const std::vector<untangle::Mesh>& meshes, int threads, bool self,
+                bool separation = true) {
     untangle::DetectOptions options;
     options.threads = threads;
     options.self_intersections = self;
+    options.separation = separation;
     untangle::DetectTimings timings;
     const auto start = std::chrono::steady_clock::now();
     result = untangle::find_intersections(meshes, options, &timings);
@@ -101,6 +108,7 @@ struct Row {
   std::size_t crossings = 0, contours = 0, polylines = 0, polyline_points = 0;
   OursRun all, one;  // threads = 0 (all cores) and threads = 1
   OursRun between;   // threads = 0, pairs of different meshes only (the job of surface_intersection)
+  OursRun between_curves;  // the same without the separation floods (DetectOptions::separation)
   std::size_t pairs_between = 0;
   Stat cgal_pairs, cgal_face_face, cgal_surface;
   OursRun sheet_self;  // the sheet alone, against itself (`check` on the sheet)
@@ -108,6 +116,18 @@ struct Row {
   std::size_t sheet_self_pairs = 0, cgal_sheet_self_pairs = 0;
   double convert_ms = 0.0;
 };
+
+// Whether two results have the same pairs, contours (crossings in walk order) and track types.
+bool same_curves(const untangle::Intersections& a, const untangle::Intersections& b) {
+  if (a.triangle_pairs != b.triangle_pairs || a.contours.size() != b.contours.size()) return false;
+  for (std::size_t i = 0; i < a.contours.size(); ++i) {
+    const untangle::Contour &c = a.contours[i], &d = b.contours[i];
+    if (c.crossings != d.crossings || c.tracks[0].type != d.tracks[0].type ||
+        c.tracks[1].type != d.tracks[1].type)
+      return false;
+  }
+  return true;
+}
 
 double ratio(const Stat& cgal, const Stat& ours) {
   return ours.median > 0.0 ? cgal.median / ours.median : 0.0;
@@ -209,11 +229,12 @@ int main(int argc, char** argv) {
     row.all = run_ours(meshes, 0, repeats);
     row.one = run_ours(meshes, 1, repeats);
     // The headline comparisons, in alternation (see the top of this file).
-    OursSamples between, sheet_self;
+    OursSamples between, between_curves, sheet_self;
     std::vector<double> cgal_surface, cgal_sheet_self;
     const std::vector<untangle::Mesh> sheet{meshes[0]};
     for (int r = 0; r < repeats; ++r) {
       between.run_once(meshes, 0, false);
+      between_curves.run_once(meshes, 0, false, false);
       cgal_surface.push_back(time_runs(1, [&] {
         row.polylines = untangle::cgal_reference::surface_intersection_polylines(
             ref[0], ref[1], &row.polyline_points);
@@ -226,6 +247,7 @@ int main(int argc, char** argv) {
       })[0]);
     }
     row.between = between.stats();
+    row.between_curves = between_curves.stats();
     row.cgal_surface = stat_of(cgal_surface);
     row.pairs_between = row.between.result.triangle_pairs.size();
     row.sheet_self = sheet_self.stats();
@@ -257,6 +279,10 @@ int main(int argc, char** argv) {
     std::set_difference(cgal_pairs.begin(), cgal_pairs.end(), ours.begin(), ours.end(),
                         std::back_inserter(diff));
     row.only_cgal = diff.size();
+    if (!same_curves(row.between.result, row.between_curves.result)) {
+      mismatch = true;
+      std::printf("!!!!!!!! MISMATCH n=%d: contours differ without the floods !!!!!!!!\n", n);
+    }
     if (row.pairs_between != row.pairs_face_face) {
       mismatch = true;
       std::printf("!!!!!!!! MISMATCH n=%d: pairs between meshes ours %zu, CGAL face-face %zu !!!!!!!!\n",
@@ -301,24 +327,35 @@ int main(int argc, char** argv) {
 
   std::printf("\nbetween the two meshes only (no self-intersections), the job of CGAL's "
               "face-face routine and surface_intersection:\n");
-  std::printf("  like for like: CGAL is timed on its prepared Surface_mesh, ours on prepared\n"
-              "  topology (welding and edges left out on both sides); 'ours all' adds our welding,\n"
-              "  'CGAL all' adds CGAL's conversion.\n");
-  std::printf("%5s %8s %21s %21s %21s %21s %9s %9s %9s %9s\n", "n", "pairs", "ours det+contours",
-              "CGAL surface_inters.", "ours all", "CGAL all", "x prep", "x best", "x all", "x strict");
+  std::printf(
+      "  like for like: CGAL is timed on its prepared Surface_mesh, ours on prepared\n"
+      "  topology (welding and edges left out on both sides); 'ours all' adds our welding,\n"
+      "  'CGAL all' adds CGAL's conversion. 'ours det+contours' includes the separation\n"
+      "  floods and smaller-side areas of the tracks (region analysis, which CGAL does not\n"
+      "  do); 'ours no floods' leaves them out (DetectOptions::separation off): detection,\n"
+      "  contours and track types, what surface_intersection's polylines amount to.\n");
+  std::printf("%5s %8s %21s %21s %21s %21s %21s %9s %9s %9s %9s %9s %9s\n", "n", "pairs",
+              "ours det+contours", "ours no floods", "CGAL surface_inters.", "ours all", "CGAL all",
+              "x prep", "x best", "x prep nf", "x best nf", "x all", "x strict");
   for (const Row& r : rows) {
     Stat cgal_all = r.cgal_surface;
     cgal_all.best += r.convert_ms;
     cgal_all.median += r.convert_ms;
-    std::printf("%5d %8zu %21s %21s %21s %21s %9.2f %9.2f %9.2f %9.2f\n", r.n, r.pairs_between,
-                best_median(r.between.prepared).c_str(), best_median(r.cgal_surface).c_str(),
+    std::printf("%5d %8zu %21s %21s %21s %21s %21s %9.2f %9.2f %9.2f %9.2f %9.2f %9.2f\n", r.n,
+                r.pairs_between, best_median(r.between.prepared).c_str(),
+                best_median(r.between_curves.prepared).c_str(), best_median(r.cgal_surface).c_str(),
                 best_median(r.between.total).c_str(), best_median(cgal_all).c_str(),
-                ratio(r.cgal_surface, r.between.prepared), ratio_best(r.cgal_surface, r.between.prepared),
+                ratio(r.cgal_surface, r.between.prepared),
+                ratio_best(r.cgal_surface, r.between.prepared),
+                ratio(r.cgal_surface, r.between_curves.prepared),
+                ratio_best(r.cgal_surface, r.between_curves.prepared),
                 ratio(cgal_all, r.between.total), ratio(r.cgal_surface, r.between.total));
   }
-  std::printf("  x prep = CGAL surface_intersection / ours without welding (medians); x best = the\n"
-              "  same with the best runs; x all = both with input preparation; x strict = CGAL\n"
-              "  without, ours with.\n");
+  std::printf(
+      "  x prep = CGAL surface_intersection / ours without welding (medians); x best = the\n"
+      "  same with the best runs; x prep nf, x best nf = the same for ours without the\n"
+      "  separation floods; x all = both with input preparation; x strict = CGAL without,\n"
+      "  ours with (the last two with the floods).\n");
 
   std::printf("\ncurves: find_intersections (detection + contours) vs CGAL surface_intersection\n");
   std::printf("%5s %21s %21s %21s %21s %9s %9s\n", "n", "ours total (all)", "ours total (1t)",

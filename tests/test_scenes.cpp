@@ -28,6 +28,11 @@ namespace {
 
 using scenes::Scene;
 
+// Why the cow's tests are skipped when they are.
+constexpr const char* kNoCow =
+    "cow.off of Debian's libcgal-demo is not installed (/usr/share/doc/libcgal-demo/data.tar.gz); "
+    "install libcgal-demo and re-run cmake to test on the cow";
+
 // ---- mesh helpers ----
 
 struct Shape {
@@ -354,11 +359,7 @@ TEST(SceneContours, SheetOnSpikes) {
 // The sheet spans 1.2 times the cow's box across its middle: every sheet-cow curve is closed on
 // both (the cow is closed, the sheet's boundary lies outside it).
 TEST(SceneContours, SheetThroughCow) {
-  if (scenes::cow_path().empty()) {
-    GTEST_SKIP() << "cow.off of Debian's libcgal-demo is not installed "
-                    "(/usr/share/doc/libcgal-demo/data.tar.gz); install libcgal-demo and re-run "
-                    "cmake to test on the cow";
-  }
+  if (scenes::cow_path().empty()) GTEST_SKIP() << kNoCow;
   const Scene scene = scenes::sheet_through_cow(40);
   ASSERT_EQ(scene.movable.size(), 1u);
   ASSERT_GE(scene.obstacles.size(), 1u);
@@ -459,12 +460,82 @@ INSTANTIATE_TEST_SUITE_P(Scenes, ScenePermuted,
                          });
 
 TEST(ScenePermuted, SheetThroughCow) {
-  if (scenes::cow_path().empty()) {
-    GTEST_SKIP() << "cow.off of Debian's libcgal-demo is not installed "
-                    "(/usr/share/doc/libcgal-demo/data.tar.gz); install libcgal-demo and re-run "
-                    "cmake to test on the cow";
-  }
+  if (scenes::cow_path().empty()) GTEST_SKIP() << kNoCow;
   expect_order_independent(scenes::scene_meshes(scenes::sheet_through_cow(40)));
+}
+
+// ---- DetectOptions::separation off changes nothing but separation ----
+
+// Detection and contours with and without the separation floods, at 1 and 2 threads: the same
+// crossings, pairs, contours, track types and cut edges bit for bit; without them, every track's
+// separates and smaller_area and the count non_separating keep their defaults.
+void expect_same_without_separation(const std::vector<Mesh>& meshes, DetectOptions with = {}) {
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE("threads " + std::to_string(threads));
+    with.threads = threads;
+    DetectOptions without = with;
+    without.separation = false;
+    const Intersections a = find_intersections(meshes, with);
+    const Intersections b = find_intersections(meshes, without);
+    ASSERT_EQ(a.crossings.size(), b.crossings.size());
+    for (std::size_t i = 0; i < a.crossings.size(); ++i) {
+      const Crossing &x = a.crossings[i], &y = b.crossings[i];
+      EXPECT_EQ(std::tie(x.edge_mesh, x.edge_v0, x.edge_v1, x.face_mesh, x.face, x.point),
+                std::tie(y.edge_mesh, y.edge_v0, y.edge_v1, y.face_mesh, y.face, y.point))
+          << "crossing " << i;
+    }
+    EXPECT_EQ(a.triangle_pairs, b.triangle_pairs);
+    ASSERT_EQ(a.contours.size(), b.contours.size());
+    for (std::size_t i = 0; i < a.contours.size(); ++i) {
+      SCOPED_TRACE("contour " + std::to_string(i) + ": " + text(a.contours[i]));
+      const Contour &c = a.contours[i], &d = b.contours[i];
+      EXPECT_EQ(std::tie(c.closed, c.self, c.loop_vertices, c.branch_points, c.crossings,
+                         c.polyline, c.length),
+                std::tie(d.closed, d.self, d.loop_vertices, d.branch_points, d.crossings,
+                         d.polyline, d.length));
+      for (int k = 0; k < 2; ++k) {
+        const Track &s = c.tracks[k], &t = d.tracks[k];
+        EXPECT_EQ(std::tie(s.mesh, s.type, s.boundary_ends, s.cut_edges),
+                  std::tie(t.mesh, t.type, t.boundary_ends, t.cut_edges));
+        EXPECT_FALSE(t.separates);
+        EXPECT_EQ(t.smaller_area, 0.0);
+      }
+    }
+    IntersectionCounts expected = a.counts;
+    expected.non_separating = 0;
+    const IntersectionCounts& got = b.counts;
+    EXPECT_EQ(
+        std::tie(expected.crossings, expected.triangle_pairs, expected.contours,
+                 expected.contour_length, expected.tracks, expected.pairs_cl_cl,
+                 expected.pairs_bb_ii, expected.pairs_bi_bi, expected.pairs_self,
+                 expected.pairs_other, expected.loop_vertices, expected.non_separating,
+                 expected.branch_points, expected.broken),
+        std::tie(got.crossings, got.triangle_pairs, got.contours, got.contour_length, got.tracks,
+                 got.pairs_cl_cl, got.pairs_bb_ii, got.pairs_bi_bi, got.pairs_self, got.pairs_other,
+                 got.loop_vertices, got.non_separating, got.branch_points, got.broken));
+  }
+}
+
+TEST(SceneWithoutSeparation, EveryNamedScene) {
+  for (const Scene& scene : scenes::named_scenes()) {
+    SCOPED_TRACE(scene.name);
+    expect_same_without_separation(scenes::scene_meshes(scene));
+  }
+}
+
+// The benchmark's scene (bench/bench_detect.cpp): between the meshes only, as there, and with
+// self-intersections; both tracks of its contour separate when the floods run.
+TEST(SceneWithoutSeparation, SheetThroughCow) {
+  if (scenes::cow_path().empty()) GTEST_SKIP() << kNoCow;
+  const std::vector<Mesh> meshes = scenes::scene_meshes(scenes::sheet_through_cow(81));
+  DetectOptions between;
+  between.self_intersections = false;
+  const Intersections result = find_intersections(meshes, between);
+  ASSERT_FALSE(result.contours.empty());
+  for (const Contour& c : result.contours)
+    for (const Track& t : c.tracks) EXPECT_TRUE(t.separates && t.smaller_area > 0.0) << text(c);
+  expect_same_without_separation(meshes, between);
+  expect_same_without_separation(meshes);
 }
 
 // ---- testdata/ is what the generator makes ----

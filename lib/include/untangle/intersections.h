@@ -33,7 +33,8 @@ struct Track {
   TrackType type = TrackType::kCL;
   std::size_t boundary_ends = 0;
   std::size_t cut_edges = 0;  // edges of this mesh crossed an odd number of times by the contour
-  // For CL and BB tracks: whether cutting those edges splits the mesh component the track lies on
+  // For CL and BB tracks (unless DetectOptions::separation is off, when they keep these defaults):
+  // whether cutting those edges splits the mesh component the track lies on
   // (flood fill, DESIGN §4), and the area of the smaller side (triangle areas shared equally among
   // their corners). The two sides are grown in lock step from the first cut edge, so the side
   // found is the one with fewer vertices and the cost is that side's size, not the mesh's. A track
@@ -63,7 +64,7 @@ struct IntersectionCounts {
   std::array<std::size_t, 4> tracks{};  // by TrackType
   std::size_t pairs_cl_cl = 0, pairs_bb_ii = 0, pairs_bi_bi = 0, pairs_self = 0, pairs_other = 0;
   std::size_t loop_vertices = 0;
-  std::size_t non_separating = 0;  // CL or BB tracks that separate nothing
+  std::size_t non_separating = 0;  // CL or BB tracks that separate nothing (0 without separation)
   std::size_t branch_points = 0;
   // Contours whose walk failed (a crossing link without partner). Always 0 unless the 0-or-2
   // crossings property is violated, i.e. a bug; the property tests assert it.
@@ -86,12 +87,18 @@ struct DetectOptions {
   // Whether each mesh is also tested against itself (self-intersections). Off: only pairs of
   // different meshes, the job of CGAL's surface_intersection.
   bool self_intersections = true;
+  // Whether CL and BB tracks are tested for separation: Track::separates and Track::smaller_area,
+  // found by flood fills of the mesh (region analysis, DESIGN §4), and the count non_separating.
+  // Off: those keep their defaults (false, 0.0, 0) and the floods are skipped; crossings, pairs,
+  // contours, track types and cut edges are the same either way. Detection and contours alone
+  // are what CGAL's surface_intersection computes (its intersection polylines).
+  bool separation = true;
 };
 
 struct DetectTimings {
   double detect_ms = 0.0;    // topology, broad and narrow phase
   double topology_ms = 0.0;  // of which welding and edge topology (the input preparation)
-  double contours_ms = 0.0;  // linking, classification, flood fills
+  double contours_ms = 0.0;  // linking, classification, flood fills (DetectOptions::separation)
 };
 
 // Finds every crossing between every pair of meshes and within each mesh, builds contours and

@@ -40,11 +40,14 @@ Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOp
   Intersections result;
   run_parallel(options.threads, 2, 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t part = begin; part < end; ++part) {
-      if (part == 0) traced = build_contours(topo, set, options.threads);
-      else result = summarize_crossings(topo, set);
+      if (part == 0) {
+        traced = build_contours(topo, set, options.threads, options.separation);
+      } else {
+        result = summarize_crossings(topo, set);
+      }
     }
   });
-  add_contours(traced, result);
+  add_contours(traced, result, options.separation);
   const auto t2 = Clock::now();
   if (timings != nullptr) {
     timings->detect_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();

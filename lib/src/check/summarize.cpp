@@ -25,7 +25,9 @@ Intersections summarize_crossings(const SceneTopology& topo, const CrossingSet& 
     out.point = c.point;
     result.crossings.push_back(out);
   }
-  for (const auto& pair : intersecting_pairs(topo, set)) {
+  const std::vector<std::array<std::uint32_t, 2>> pairs = intersecting_pairs(topo, set);
+  result.triangle_pairs.reserve(pairs.size());
+  for (const auto& pair : pairs) {
     std::array<std::uint32_t, 4> p{topo.tri_mesh[pair[0]], topo.tri_source[pair[0]],
                                    topo.tri_mesh[pair[1]], topo.tri_source[pair[1]]};
     if (std::make_pair(p[2], p[3]) < std::make_pair(p[0], p[1])) {
@@ -34,14 +36,18 @@ Intersections summarize_crossings(const SceneTopology& topo, const CrossingSet& 
     }
     result.triangle_pairs.push_back(p);
   }
-  std::sort(result.triangle_pairs.begin(), result.triangle_pairs.end());
+  // Triangles are numbered mesh by mesh in input order, so (mesh, triangle) grows with the id and
+  // the pairs come out sorted already; sorted again only if that ever changes.
+  if (!std::is_sorted(result.triangle_pairs.begin(), result.triangle_pairs.end()))
+    std::sort(result.triangle_pairs.begin(), result.triangle_pairs.end());
 
   result.counts.crossings = result.crossings.size();
   result.counts.triangle_pairs = result.triangle_pairs.size();
   return result;
 }
 
-void add_contours(const std::vector<TracedContour>& traced, Intersections& result) {
+void add_contours(const std::vector<TracedContour>& traced, Intersections& result,
+                  bool separation) {
   IntersectionCounts& counts = result.counts;
   counts.contours = traced.size();
   for (const TracedContour& t : traced) {
@@ -53,7 +59,8 @@ void add_contours(const std::vector<TracedContour>& traced, Intersections& resul
     if (t.broken) ++counts.broken;
     for (const Track& track : c.tracks) {
       ++counts.tracks[static_cast<int>(track.type)];
-      if ((track.type == TrackType::kCL || track.type == TrackType::kBB) && !track.separates)
+      if (separation && (track.type == TrackType::kCL || track.type == TrackType::kBB) &&
+          !track.separates)
         ++counts.non_separating;
     }
     const TrackType a = c.tracks[0].type, b = c.tracks[1].type;

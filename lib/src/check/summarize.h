@@ -14,8 +14,10 @@ Intersections summarize(const SceneTopology& topology, const CrossingSet& crossi
                         const std::vector<TracedContour>& contours);
 
 // The two halves of summarize: the crossings and intersecting pairs (which need no contours, so
-// they can be made while the contours are built), then the contours and their counts.
+// they can be made while the contours are built), then the contours and their counts. Without
+// `separation` (contours built without it) non_separating is not counted.
 Intersections summarize_crossings(const SceneTopology& topology, const CrossingSet& crossings);
-void add_contours(const std::vector<TracedContour>& contours, Intersections& result);
+void add_contours(const std::vector<TracedContour>& contours, Intersections& result,
+                  bool separation = true);
 
 }  // namespace untangle

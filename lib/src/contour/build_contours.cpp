@@ -39,94 +39,120 @@ double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
-// The crossings of a set by edge: an open-addressing table from an edge to its first crossing
-// (the set is sorted by edge, then face). Lookups are the inner loop of linking; a binary search
-// over the whole set costs several times more.
-class CrossingIndex {
+// Crossings grouped by triangle pair: crossing (e, f) lies in the pair {t, f} for each triangle t
+// incident to e, and is entered once per such t (an entry) under that pair's key in an
+// open-addressing table, which chains the entries of one pair.
+class PairTable {
  public:
-  explicit CrossingIndex(const CrossingSet& set) : set_(set) {
+  explicit PairTable(std::size_t entries) {
     std::size_t size = 16;
-    shift_ = 60;
-    while (size < 2 * set.items.size()) {
+    while (size < 2 * entries) {
       size *= 2;
       --shift_;
     }
     mask_ = size - 1;
-    slots_.assign(size, {kNone, kNone});
-    for (std::uint32_t i = 0; i < set.items.size(); ++i) {
-      const std::uint32_t e = set.items[i].edge;
-      if (i > 0 && set.items[i - 1].edge == e) continue;
-      std::size_t h = slot(e);
-      while (slots_[h][0] != kNone) h = (h + 1) & mask_;
-      slots_[h] = {e, i};
-    }
+    keys_.assign(size, kEmpty);
+    first_.resize(size);
+    crossing_.reserve(entries);
+    next_.reserve(entries);
   }
-  // Index of the crossing (edge, face), or kNone (as CrossingSet::find).
-  std::uint32_t find(std::uint32_t edge, std::uint32_t face) const {
-    for (std::size_t h = slot(edge); slots_[h][0] != kNone; h = (h + 1) & mask_) {
-      if (slots_[h][0] != edge) continue;
-      for (std::uint32_t i = slots_[h][1]; i < set_.items.size() && set_.items[i].edge == edge; ++i)
-        if (set_.items[i].face == face) return i;
-      return kNone;
-    }
-    return kNone;
+  // Enters crossing c under the pair {t, f}; returns the entry's slot.
+  std::uint32_t add(std::uint32_t c, std::uint32_t t, std::uint32_t f) {
+    const std::uint64_t key = std::uint64_t{std::min(t, f)} << 32 | std::max(t, f);
+    std::size_t h = static_cast<std::size_t>((key ^ key >> 29) * 0x9e3779b97f4a7c15ull >> shift_);
+    while (keys_[h] != kEmpty && keys_[h] != key) h = (h + 1) & mask_;
+    next_.push_back(keys_[h] == key ? first_[h] : kNone);
+    keys_[h] = key;
+    first_[h] = static_cast<std::uint32_t>(crossing_.size());
+    crossing_.push_back(c);
+    return static_cast<std::uint32_t>(h);
   }
+  // The entries of the pair in `slot`: first(slot), then next(entry) until kNone.
+  std::uint32_t first(std::uint32_t slot) const { return first_[slot]; }
+  std::uint32_t next(std::uint32_t entry) const { return next_[entry]; }
+  std::uint32_t crossing(std::uint32_t entry) const { return crossing_[entry]; }
 
  private:
-  std::size_t slot(std::uint32_t edge) const {  // Fibonacci hashing: the top bits of the product
-    return static_cast<std::size_t>(edge * 0x9e3779b97f4a7c15ull >> shift_);
-  }
-  const CrossingSet& set_;
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
   std::size_t mask_ = 0;
-  int shift_ = 60;
-  std::vector<std::array<std::uint32_t, 2>> slots_;  // (edge, first crossing), edge kNone: empty
+  int shift_ = 60;  // Fibonacci hashing: the top bits of the product
+  std::vector<std::uint64_t> keys_;
+  std::vector<std::uint32_t> first_, crossing_, next_;
 };
 
-// The partner of crossing `ci` = (e, f) inside the triangle pair (t, f), t incident to e.
-Link follow(const SceneTopology& topo, const CrossingSet& set, const CrossingIndex& index,
-            std::uint32_t ci, std::uint32_t t) {
-  const RawCrossing& c = set.items[ci];
-  const std::uint32_t f = c.face;
-  Link link;
-  link.pair = {std::min(t, f), std::max(t, f)};
-  const auto& tt = topo.tris[t];
-  const auto& ff = topo.tris[f];
-  std::size_t found = 0;
-  for (int k = 0; k < 3; ++k) {  // another edge of t through f: same roles
-    const std::uint32_t e = topo.tri_edges[t][k];
-    if (e == c.edge || has_vertex(ff, tt[k]) || has_vertex(ff, tt[(k + 1) % 3])) continue;
-    const std::uint32_t other = index.find(e, f);
-    if (other != kNone) {
-      link.kind = LinkKind::kCrossing;
-      link.target = other;
-      link.swap = false;
-      ++found;
-    }
+// The links of every crossing: one per triangle t incident to its edge (in edge_faces order),
+// then an end for a boundary edge; crossing ci's are links[link_begin[ci], link_begin[ci + 1]).
+// Crossing (e, f) meets crossing (e', f') through t when both lie in the triangle pair {t, f}: e'
+// an edge of t and f' = f (same roles), or e' an edge of f and f' = t (the roles swap). So its
+// partner through t is the one other crossing entered under {t, f} whose edge shares no vertex
+// with its own face (every crossing of a real detection; an arbitrary set may hold others, which
+// never link). No other: t ∩ f runs to a vertex the two share (a loop vertex) or nowhere
+// (broken); two or more: broken. Two passes over the crossings in edge order and one table probe
+// per entry: looking up every edge of t and f in a table by edge (six per link) took more than
+// twice as long at n = 81 of the cow benchmark, for few instructions but many scattered reads of
+// t's and f's corners and edges.
+std::vector<Link> link_crossings(const SceneTopology& topo, const CrossingSet& set,
+                                 std::vector<std::uint32_t>& link_begin) {
+  const std::size_t n = set.items.size();
+  std::size_t entries = 0;
+  for (const RawCrossing& c : set.items) entries += topo.edge_face_count(c.edge);
+  PairTable table(entries);
+  std::vector<std::uint32_t> slot(entries);  // per entry, in the order entered
+  std::vector<std::uint8_t> linkable(n);
+  for (std::uint32_t ci = 0, entry = 0; ci < n; ++ci) {
+    const RawCrossing& c = set.items[ci];
+    const auto& face = topo.tris[c.face];
+    linkable[ci] =
+        !has_vertex(face, topo.edges[c.edge][0]) && !has_vertex(face, topo.edges[c.edge][1]);
+    for (std::uint32_t i = topo.edge_face_begin[c.edge]; i < topo.edge_face_begin[c.edge + 1]; ++i)
+      slot[entry++] = table.add(ci, topo.edge_faces[i], c.face);
   }
-  for (int k = 0; k < 3; ++k) {  // an edge of f through t: the roles swap
-    const std::uint32_t g = topo.tri_edges[f][k];
-    if (has_vertex(tt, ff[k]) || has_vertex(tt, ff[(k + 1) % 3])) continue;
-    const std::uint32_t other = index.find(g, t);
-    if (other != kNone) {
-      link.kind = LinkKind::kCrossing;
-      link.target = other;
-      link.swap = true;
-      ++found;
-    }
-  }
-  if (found == 1) return link;
-  if (found == 0) {
-    for (std::uint32_t v : tt) {
-      if (has_vertex(ff, v)) {  // t ∩ f runs from the crossing to the shared vertex
-        link.kind = LinkKind::kLoop;
-        link.target = v;
-        return link;
+  std::vector<Link> links;
+  links.reserve(entries + n);
+  link_begin.assign(n + 1, 0);
+  for (std::uint32_t ci = 0, entry = 0; ci < n; ++ci) {
+    link_begin[ci] = static_cast<std::uint32_t>(links.size());
+    const RawCrossing& c = set.items[ci];
+    const std::uint32_t f = c.face;
+    for (std::uint32_t i = topo.edge_face_begin[c.edge]; i < topo.edge_face_begin[c.edge + 1];
+         ++i, ++entry) {
+      const std::uint32_t t = topo.edge_faces[i];
+      Link link;
+      link.pair = {std::min(t, f), std::max(t, f)};
+      std::size_t found = 0;
+      for (std::uint32_t o = table.first(slot[entry]); o != kNone; o = table.next(o)) {
+        const std::uint32_t other = table.crossing(o);
+        if (o == entry || !linkable[other]) continue;
+        link.kind = LinkKind::kCrossing;
+        link.target = other;
+        link.swap = set.items[other].face != f;
+        ++found;
       }
+      if (found != 1) {
+        link.kind = LinkKind::kBroken;
+        link.target = kNone;
+      }
+      if (found == 0) {
+        const auto &tt = topo.tris[t], &ff = topo.tris[f];
+        for (std::uint32_t v : tt) {
+          if (has_vertex(ff, v)) {  // t ∩ f runs from the crossing to the shared vertex
+            link.kind = LinkKind::kLoop;
+            link.target = v;
+            break;
+          }
+        }
+      }
+      links.push_back(link);
+    }
+    if (topo.is_boundary(c.edge)) {
+      Link end;
+      end.kind = LinkKind::kBoundary;
+      end.target = c.edge;
+      links.push_back(end);
     }
   }
-  link.kind = LinkKind::kBroken;
-  link.target = kNone;
-  return link;
+  link_begin[n] = static_cast<std::uint32_t>(links.size());
+  return links;
 }
 
 }  // namespace
@@ -294,9 +320,9 @@ double side_area(const SceneTopology& topo, const std::uint32_t* side, std::size
   return area;
 }
 
-// Type, cut edges and separation of track k of a traced contour.
+// Type, cut edges and (when `separation`) separation of track k of a traced contour.
 void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedContour& traced, int k,
-                    SeparationScratch& scratch) {
+                    bool separation, SeparationScratch& scratch) {
   Contour& contour = traced.contour;
   Track& track = contour.tracks[k];
   if (contour.closed) track.type = TrackType::kCL;
@@ -310,7 +336,7 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
     if (traced.edge_track[i] == k) edges.push_back(set.items[contour.crossings[i]].edge);
   const std::vector<std::uint32_t> odd = odd_edges(edges);
   track.cut_edges = odd.size();
-  if (track.type != TrackType::kCL && track.type != TrackType::kBB) return;
+  if (!separation || (track.type != TrackType::kCL && track.type != TrackType::kBB)) return;
   if (odd.empty()) {  // cuts off no vertex: a disk inside faces, or a sliver at the boundary
     track.separates = true;
     return;
@@ -348,26 +374,12 @@ void classify_track(const SceneTopology& topo, const CrossingSet& set, TracedCon
 
 }  // namespace
 
-std::vector<TracedContour> build_contours(const SceneTopology& topo, const CrossingSet& set, int threads) {
+std::vector<TracedContour> build_contours(const SceneTopology& topo, const CrossingSet& set,
+                                          int threads, bool separation) {
   const std::size_t n = set.items.size();
   // Links of every crossing, one per triangle incident to its edge (boundary edges add an end).
-  std::vector<std::uint32_t> link_begin(n + 1, 0);
-  std::vector<Link> links;
-  const CrossingIndex index(set);
-  for (std::uint32_t ci = 0; ci < n; ++ci) {
-    link_begin[ci] = static_cast<std::uint32_t>(links.size());
-    const std::uint32_t e = set.items[ci].edge;
-    for (std::uint32_t i = topo.edge_face_begin[e]; i < topo.edge_face_begin[e + 1]; ++i) {
-      links.push_back(follow(topo, set, index, ci, topo.edge_faces[i]));
-    }
-    if (topo.is_boundary(e)) {
-      Link end;
-      end.kind = LinkKind::kBoundary;
-      end.target = e;
-      links.push_back(end);
-    }
-  }
-  link_begin[n] = static_cast<std::uint32_t>(links.size());
+  std::vector<std::uint32_t> link_begin;
+  const std::vector<Link> links = link_crossings(topo, set, link_begin);
 
   // Components through crossing links, in order of their lowest crossing.
   std::vector<std::uint32_t> component(n, kNone);
@@ -540,7 +552,8 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
   tbb::enumerable_thread_specific<SeparationScratch> scratches;
   auto classify = [&](std::size_t begin, std::size_t end) {
     SeparationScratch& scratch = scratches.local();
-    for (std::size_t j = begin; j < end; ++j) classify_track(topo, set, out[jobs[j][0]], jobs[j][1], scratch);
+    for (std::size_t j = begin; j < end; ++j)
+      classify_track(topo, set, out[jobs[j][0]], jobs[j][1], separation, scratch);
   };
   run_parallel(jobs.size() < 2 ? 1 : threads, jobs.size(), 1, classify);
   return out;

@@ -20,14 +20,16 @@ struct TracedContour {
 };
 
 // Builds the contours of a crossing set and classifies both tracks of each: type from the ends on
-// each track's mesh boundary, cut edges, and (for CL and BB tracks) separation by flood fill.
+// each track's mesh boundary, cut edges, and (for CL and BB tracks, when `separation`) separation
+// by flood fill; without `separation`, Track::separates and smaller_area keep their defaults.
 // Any set whose ids are in range (sorted and unique, as CrossingSet requires) is safe, not only a
 // real detection: every crossing lies on exactly one contour, and a contour whose links are
 // inconsistent (a missing partner, a link into another contour, a chain that runs into itself)
 // is marked broken and lists its crossings in breadth-first order. The tracks are classified in
 // parallel on `threads` threads (0: all cores; the same result for every count).
 std::vector<TracedContour> build_contours(const SceneTopology& topology,
-                                          const CrossingSet& crossings, int threads = 1);
+                                          const CrossingSet& crossings, int threads = 1,
+                                          bool separation = true);
 
 // The edges that occur an odd number of times in `crossed` (the edges a set of contours cuts),
 // ascending. `crossed` is sorted in place.

@@ -72,15 +72,32 @@ TriangleCells triangle_cells(std::uint32_t a, std::uint32_t b, std::uint32_t c) 
   return out;
 }
 
+// Consecutive ids [begin, end) of one mesh: the passes below run on such parts in parallel (each
+// mesh cut into parts of at most kPart ids), each part writing its own slots or its own list,
+// joined in part order, so the result is the same for every thread count.
+struct Part {
+  std::uint32_t mesh, begin, end;
+};
+constexpr std::uint32_t kPart = 4096;
+
+// Parts covering the ids [first[m], first[m + 1]) of every mesh m with wanted(m), in mesh order.
+template <class Wanted>
+std::vector<Part> parts_of(const std::vector<std::uint32_t>& first, const Wanted& wanted) {
+  std::vector<Part> parts;
+  for (std::uint32_t m = 0; m + 1 < first.size(); ++m) {
+    if (!wanted(m)) continue;
+    for (std::uint32_t b = first[m]; b < first[m + 1]; b += std::min(kPart, first[m + 1] - b))
+      parts.push_back({m, b, b + std::min(kPart, first[m + 1] - b)});
+  }
+  return parts;
+}
+
 }  // namespace
 
 std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo,
                                                        const std::vector<bool>& cull, int threads) {
   const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
   std::vector<std::vector<std::uint32_t>> kept(meshes);
-  auto mesh_triangles = [&](std::size_t m) -> std::size_t {
-    return topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m];
-  };
   auto keep_all = [&](std::size_t m) {
     kept[m].resize(topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m]);
     for (std::size_t i = 0; i < kept[m].size(); ++i) kept[m][i] = topo.mesh_tri_begin[m] + static_cast<std::uint32_t>(i);
@@ -90,19 +107,25 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
     return kept;
   }
   // Each mesh's box, from its vertices (a superset of its triangles' corners). Non-finite
-  // coordinates defeat the grid's rounding: then nothing is culled.
-  // The per-mesh passes run on the meshes in parallel, each writing its own slots.
+  // coordinates defeat the grid's rounding: then nothing is culled. The parts' boxes are merged in
+  // order with the same min and max as one pass, so the box is that pass's bit for bit (of equal
+  // values, a signed zero included, the first is kept).
   std::vector<Box3> bounds(meshes);
   std::vector<std::uint8_t> has(meshes, 0), finite(meshes, 1);
-  run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t m = begin; m < end; ++m) {
-      const std::uint32_t first = topo.mesh_vertex_begin[m], last = topo.mesh_vertex_begin[m + 1];
-      if (first == last || topo.mesh_tri_begin[m] == topo.mesh_tri_begin[m + 1]) continue;
-      has[m] = 1;
-      Box3& box = bounds[m];
-      box.lo = box.hi = topo.points[first];
+  for (std::size_t m = 0; m < meshes; ++m)
+    has[m] = topo.mesh_vertex_begin[m] < topo.mesh_vertex_begin[m + 1] &&
+             topo.mesh_tri_begin[m] < topo.mesh_tri_begin[m + 1];
+  const std::vector<Part> vertex_parts =
+      parts_of(topo.mesh_vertex_begin, [&](std::uint32_t m) { return has[m] != 0; });
+  std::vector<Box3> part_box(vertex_parts.size());
+  std::vector<std::uint8_t> part_finite(vertex_parts.size());
+  run_parallel(threads, vertex_parts.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const Part& part = vertex_parts[i];
+      Box3& box = part_box[i];
+      box.lo = box.hi = topo.points[part.begin];
       bool all_finite = true;  // a comparison, not a sum: no chain of additions to wait for
-      for (std::uint32_t v = first; v < last; ++v) {
+      for (std::uint32_t v = part.begin; v < part.end; ++v) {
         const Vec3& p = topo.points[v];
         for (int k = 0; k < 3; ++k) {
           all_finite &= std::abs(p[k]) <= std::numeric_limits<double>::max();  // false for inf, NaN
@@ -110,9 +133,22 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
           box.hi[k] = std::max(box.hi[k], p[k]);
         }
       }
-      finite[m] = all_finite;
+      part_finite[i] = all_finite;
     }
   });
+  for (std::size_t i = 0; i < vertex_parts.size(); ++i) {
+    const std::uint32_t m = vertex_parts[i].mesh;
+    finite[m] &= part_finite[i];
+    Box3& box = bounds[m];
+    if (vertex_parts[i].begin == topo.mesh_vertex_begin[m]) {
+      box = part_box[i];
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      box.lo[k] = std::min(box.lo[k], part_box[i].lo[k]);
+      box.hi[k] = std::max(box.hi[k], part_box[i].hi[k]);
+    }
+  }
   if (std::find(finite.begin(), finite.end(), 0) != finite.end()) {
     for (std::size_t c = 0; c < meshes; ++c) keep_all(c);
     return kept;
@@ -154,19 +190,22 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
     return (outside[tri[0]] & outside[tri[1]] & outside[tri[2]]) == 0;
   };
   // Those sides for the meshes that reach the region, and how many of their vertices lie inside.
-  std::vector<std::size_t> inside(meshes, 0);
-  run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t m = begin; m < end; ++m) {
-      near[m] = has[m] && bounds[m].overlaps(grid.region);
-      if (!near[m]) continue;
+  for (std::size_t m = 0; m < meshes; ++m) near[m] = has[m] && bounds[m].overlaps(grid.region);
+  const std::vector<Part> near_parts =
+      parts_of(topo.mesh_vertex_begin, [&](std::uint32_t m) { return near[m] != 0; });
+  std::vector<std::size_t> part_inside(near_parts.size());
+  run_parallel(threads, near_parts.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
       std::size_t count = 0;
-      for (std::uint32_t v = topo.mesh_vertex_begin[m]; v < topo.mesh_vertex_begin[m + 1]; ++v) {
+      for (std::uint32_t v = near_parts[i].begin; v < near_parts[i].end; ++v) {
         outside[v] = outside_bits(grid, topo.points[v]);
         count += outside[v] == 0;
       }
-      inside[m] = count;
+      part_inside[i] = count;
     }
   });
+  std::vector<std::size_t> inside(meshes, 0);
+  for (std::size_t i = 0; i < near_parts.size(); ++i) inside[near_parts[i].mesh] += part_inside[i];
   // The grid serves the culled mesh with the most vertices in the region (`largest`): the cells
   // that the boxes of every other mesh's triangles in the region cover are marked, and it keeps
   // its triangles in the region that cover a marked cell. (Marking with the large mesh to cull the
@@ -178,15 +217,21 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
     if (largest == meshes || inside[m] > inside[largest]) largest = m;
   }
   if (largest == meshes) return kept;
-  auto region_pass = [&](std::size_t m) {
-    kept[m].reserve(mesh_triangles(m));
-    for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t)
-      if (in_region(t)) kept[m].push_back(t);
+  // Appends to kept[m], for every mesh m with wanted(m), its triangles t with keep(t), ascending.
+  auto keep_where = [&](const auto& wanted, const auto& keep) {
+    const std::vector<Part> parts = parts_of(topo.mesh_tri_begin, wanted);
+    std::vector<std::vector<std::uint32_t>> lists(parts.size());
+    run_parallel(threads, parts.size(), 1, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        lists[i].reserve(parts[i].end - parts[i].begin);
+        for (std::uint32_t t = parts[i].begin; t < parts[i].end; ++t)
+          if (keep(t)) lists[i].push_back(t);
+      }
+    });
+    for (std::size_t i = 0; i < parts.size(); ++i)
+      kept[parts[i].mesh].insert(kept[parts[i].mesh].end(), lists[i].begin(), lists[i].end());
   };
-  run_parallel(threads, meshes, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t m = begin; m < end; ++m)
-      if (near[m] && cull[m] && m != largest) region_pass(m);
-  });
+  keep_where([&](std::uint32_t m) { return near[m] && cull[m] && m != largest; }, in_region);
   // Cells are computed per corner where a mesh has few triangles to visit, else once per vertex.
   std::vector<std::uint32_t> cell(topo.points.size());
   auto cells_of = [&](std::uint32_t t, bool stored) {
@@ -240,25 +285,30 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
         within = mark(t);
     }
     if (!within) {  // huge triangles: the region alone decides
-      region_pass(largest);
+      keep_where([&](std::uint32_t k) { return k == largest; }, in_region);
       return kept;
     }
   }
   std::vector<std::uint8_t> corner_near(topo.points.size());
-  for (std::uint32_t v = topo.mesh_vertex_begin[largest]; v < topo.mesh_vertex_begin[largest + 1]; ++v) {
-    const std::uint32_t c = grid_cell(grid, topo.points[v]);
-    cell[v] = c;
-    corner_near[v] = near_marked[grid.index(c & 0xff, c >> 8 & 0xff, c >> 16 & 0xff)];
-  }
-  std::vector<std::uint32_t>& list = kept[largest];
-  for (std::uint32_t t = topo.mesh_tri_begin[largest]; t < topo.mesh_tri_begin[largest + 1]; ++t) {
+  const std::vector<Part> largest_parts =
+      parts_of(topo.mesh_vertex_begin, [&](std::uint32_t m) { return m == largest; });
+  run_parallel(threads, largest_parts.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      for (std::uint32_t v = largest_parts[i].begin; v < largest_parts[i].end; ++v) {
+        const std::uint32_t c = grid_cell(grid, topo.points[v]);
+        cell[v] = c;
+        corner_near[v] = near_marked[grid.index(c & 0xff, c >> 8 & 0xff, c >> 16 & 0xff)];
+      }
+    }
+  });
+  auto meets_marked = [&](std::uint32_t t) {
     const auto& tri = topo.tris[t];
-    if (!in_region(t)) continue;
+    if (!in_region(t)) return false;
     const bool near_all = (corner_near[tri[0]] & corner_near[tri[1]] & corner_near[tri[2]]) != 0;
     const TriangleCells box = cells_of(t, true);
     bool meets = false;
     if (box.hi[0] - box.lo[0] <= 1 && box.hi[1] - box.lo[1] <= 1 && box.hi[2] - box.lo[2] <= 1) {
-      if (!near_all) continue;
+      if (!near_all) return false;
       // At most two cells per axis (most triangles): the box's cells are the combinations of lo
       // and hi, read without branches.
       for (int k = 0; k < 8; ++k)
@@ -267,10 +317,12 @@ std::vector<std::vector<std::uint32_t>> cull_triangles(const SceneTopology& topo
     } else {
       for (int z = box.lo[2]; z <= box.hi[2] && !meets; ++z)
         for (int y = box.lo[1]; y <= box.hi[1] && !meets; ++y)
-          for (int x = box.lo[0]; x <= box.hi[0] && !meets; ++x) meets = marked[grid.index(x, y, z)] != 0;
+          for (int x = box.lo[0]; x <= box.hi[0] && !meets; ++x)
+            meets = marked[grid.index(x, y, z)] != 0;
     }
-    if (meets) list.push_back(t);
-  }
+    return meets;
+  };
+  keep_where([&](std::uint32_t m) { return m == largest; }, meets_marked);
   return kept;
 }
 

@@ -573,15 +573,21 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
 
 std::vector<std::array<std::uint32_t, 2>> intersecting_pairs(const SceneTopology& topo,
                                                              const CrossingSet& crossings) {
-  std::vector<std::array<std::uint32_t, 2>> pairs;
+  // Sorted as one 64-bit key per pair (lexicographic order of (t, u)): comparing arrays element by
+  // element cost several times more.
+  std::vector<std::uint64_t> keys;
+  keys.reserve(2 * crossings.items.size());
   for (const RawCrossing& c : crossings.items) {
     for (std::uint32_t i = topo.edge_face_begin[c.edge]; i < topo.edge_face_begin[c.edge + 1]; ++i) {
       const std::uint32_t t = topo.edge_faces[i];
-      pairs.push_back({std::min(t, c.face), std::max(t, c.face)});
+      keys.push_back(std::uint64_t{std::min(t, c.face)} << 32 | std::max(t, c.face));
     }
   }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  std::vector<std::array<std::uint32_t, 2>> pairs(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i)
+    pairs[i] = {static_cast<std::uint32_t>(keys[i] >> 32), static_cast<std::uint32_t>(keys[i])};
   return pairs;
 }
 
