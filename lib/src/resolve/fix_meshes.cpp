@@ -284,21 +284,23 @@ class Solver {
 
     // Which illegal sets move: movable surfaces only; between two movable surfaces, the side with
     // the smaller illegal area (the other keeps its shape).
-    auto movable = [&](std::uint32_t component) {
-      return meshes_[topo_.component_mesh[component]].role == Role::kMovable;
-    };
-    const auto parallel = parallel_crossings(set, traced);
-    const auto layered = options_.method == FixMethod::kRegion ? layered_pairs(parallel)
-                                                               : decltype(layered_pairs(parallel)){};
+    // Layers and coincident copies are told by their parallel crossings (region method only).
+    const bool region = options_.method == FixMethod::kRegion;
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<std::size_t, 2>> parallel;
+    std::set<std::pair<std::uint32_t, std::uint32_t>> layered;
+    if (region) {
+      parallel = parallel_crossings(set, traced);
+      layered = layered_pairs(parallel);
+    }
     std::vector<const IllegalSet*> moving;
     for (const IllegalSet& s : analysis.illegal) {
       // A component against itself has no other surface to move across: its labels steer the
       // crossing rule. Layers keep their order instead (lay_layer).
-      if (!movable(s.component) || s.component == s.partner) continue;
+      if (!movable_component(s.component) || s.component == s.partner) continue;
       if (layered.count({std::min(s.component, s.partner), std::max(s.component, s.partner)})) continue;
       bool smaller = true;
       for (const IllegalSet& o : analysis.illegal) {
-        if (o.component == s.partner && o.partner == s.component && movable(o.component) &&
+        if (o.component == s.partner && o.partner == s.component && movable_component(o.component) &&
             (o.area < s.area || (o.area == s.area && o.component < s.component)))
           smaller = false;
       }
@@ -312,7 +314,7 @@ class Solver {
     }
 
     std::vector<std::uint8_t> in_moving_set(topo_.points.size(), 0);
-    if (options_.method == FixMethod::kRegion) {
+    if (region) {
       std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;  // movable partners, this step
       for (const IllegalSet* s : moving) {
         const MeshTree& tree = component_tree(s->partner, trees);
@@ -330,7 +332,7 @@ class Solver {
     for (const TracedContour& t : traced) {
       const Contour& c = t.contour;
       bool covered = false;
-      if (options_.method == FixMethod::kRegion) {
+      if (region) {
         for (std::uint32_t ci : c.crossings) {
           const RawCrossing& x = set.items[ci];
           for (std::uint32_t v : topo_.edges[x.edge]) covered = covered || in_moving_set[v];
@@ -485,7 +487,7 @@ class Solver {
   // The point of the nearest closed obstacle component to `p`, if the scene has one.
   bool nearest_obstacle_point(const Vec3& p, Vec3& out) {
     double best = INFINITY;
-    std::map<std::uint32_t, std::unique_ptr<MeshTree>> unused;
+    std::map<std::uint32_t, std::unique_ptr<MeshTree>> unused;  // obstacles' trees are kept
     for (std::uint32_t c = 0; c < topo_.component_mesh.size(); ++c) {
       if (movable_component(c) || region_settings_.orientation[c] == 0) continue;
       const MeshTree& tree = component_tree(c, unused);
@@ -590,8 +592,7 @@ class Solver {
            near_points(other, mover_tree, 0.5 * mean_edge_[other_mesh], unused)) {
         const double gap = order.other_side * x.side;
         if (gap >= 0.5 * clearance) continue;
-        const Vec3 push = scale(x.n, -order.other_side * (clearance - gap));
-        const Vec3 along = unit(push);
+        const Vec3 along = scale(x.n, -order.other_side);  // away from the inner vertex
         const double length = clearance - gap;
         for (std::uint32_t v : topo_.tris[x.face]) {
           Vec3& d = delta[v];
