@@ -506,6 +506,44 @@ TEST(LayerInterleaved, EveryPairEndsCleanAndTheMajorityOrderHoldsEverywhere) {
   EXPECT_LE(fixed.result.iterations, 2);
 }
 
+// Layers can cross where every vertex lies on its own side: here single t-shirt vertices stand
+// 0.08 out (more than half the t-shirt's edge) and pierce the middle of dress faces whose
+// corners all lie outside the t-shirt. No vertex rule sees them; the crossings do (an inner edge
+// through an outer face pushes that face out). The t-shirt keeps every vertex where it was, and
+// each spike ends under the dress.
+TEST(LayerInterleaved, SpikesThroughOuterFacesPushThemOut) {
+  const scenes::Scene scene = scenes::interleaved_layers(48, 25);
+  std::vector<Mesh> meshes = scenes::scene_meshes(scene);  // 0 dress, 1 t-shirt, 2 body
+  ASSERT_EQ(meshes.size(), 3u);
+  std::vector<std::size_t> spikes;
+  for (const auto& [phi, z] : {std::pair{0.4, 0.5}, std::pair{2.3, 1.1}, std::pair{4.4, 1.6}}) {
+    std::size_t best = 0;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t v = 0; v < meshes[1].positions.size(); ++v) {
+      const Vec3& p = meshes[1].positions[v];
+      const double d = std::hypot(std::remainder(std::atan2(p[1], p[0]) - phi, 2.0 * std::acos(-1.0)), p[2] - z);
+      if (d < best_d) best_d = d, best = v;
+    }
+    Vec3& p = meshes[1].positions[best];
+    const double rho = std::hypot(p[0], p[1]);
+    p[0] *= 0.98 / rho;
+    p[1] *= 0.98 / rho;
+    spikes.push_back(best);
+  }
+  const Intersections found = find_intersections(meshes, skipping_obstacle_pairs());
+  ASSERT_EQ(found.counts.broken, 0u);
+  const std::vector<Mesh> input = meshes;
+
+  const Fixed fixed = fix_and_redetect(meshes);
+  expect_clean(fixed);
+  EXPECT_EQ(meshes[1].positions, input[1].positions);
+  for (std::size_t v : spikes) {
+    const Vec3& p = meshes[1].positions[v];
+    const double rho = std::hypot(p[0], p[1]);
+    EXPECT_GT(outermost_hit(meshes[0], p[2], p[0] / rho, p[1] / rho), rho) << "spike " << v;
+  }
+}
+
 // ---- 4. coincident and nearly coincident copies ----
 
 scenes::Scene garment_and_copy(const Mesh& copy) {

@@ -323,7 +323,7 @@ class Solver {
                      s->vertices, tree, moves);
       }
       for (const TracedContour& t : traced) self_contour_move(set, t, analysis, in_moving_set, moves);
-      separate_coincident_layers(parallel, layered, analysis, in_moving_set, moves);
+      separate_coincident_layers(set, traced, parallel, layered, analysis, in_moving_set, moves);
       for (const TracedContour& t : traced) flap_move(set, t, trees, in_moving_set, moves);
     }
 
@@ -555,13 +555,67 @@ class Solver {
     return order;
   }
 
+  // Whether a vertex of one of the contour's crossings (its edge's ends, its face's corners) is a
+  // key of `moved`.
+  bool touches(const CrossingSet& set, const TracedContour& t,
+               const std::map<std::uint32_t, Vec3>& moved) const {
+    for (std::uint32_t ci : t.contour.crossings) {
+      const RawCrossing& x = set.items[ci];
+      for (std::uint32_t v : topo_.edges[x.edge])
+        if (moved.count(v)) return true;
+      for (std::uint32_t v : topo_.tris[x.face])
+        if (moved.count(v)) return true;
+    }
+    return false;
+  }
+
+  // The move one crossing of a layered pair asks for, at most `limit` long, added to `delta`
+  // (each vertex keeps the longest push along a direction): a mover edge through an inner face
+  // has its ends laid on the face's outer side at the clearance; an inner edge through a mover
+  // face pushes that face's corners outward until the edge's ends lie the clearance beneath its
+  // plane. Outward is taken from the inner layer's faces each time: the mover's own normals turn
+  // over where it folds (a turned-down collar).
+  void lay_crossing(const RawCrossing& x, const LayerOrder& order, std::uint32_t inner,
+                    double clearance, double limit, std::map<std::uint32_t, Vec3>& delta) const {
+    auto push = [&](std::uint32_t v, const Vec3& along, double length) {
+      length = std::min(length, limit);
+      Vec3& d = delta[v];
+      const double have = dot(d, along);
+      if (have < length) d = add(d, scale(along, length - have));
+    };
+    auto oriented = [&](std::uint32_t f) {
+      return scale(face_normal(topo_, f), orientation_[f] < 0 ? -order.side : order.side);
+    };
+    const auto& tri = topo_.tris[x.face];
+    const Vec3& corner = topo_.points[tri[0]];
+    if (topo_.tri_component(x.face) == inner) {
+      const Vec3 out = oriented(x.face);
+      for (std::uint32_t v : topo_.edges[x.edge])
+        push(v, out, clearance - dot(sub(topo_.points[v], corner), out));
+      return;
+    }
+    Vec3 out{0.0, 0.0, 0.0};
+    for (std::uint32_t k = topo_.edge_face_begin[x.edge]; k < topo_.edge_face_begin[x.edge + 1];
+         ++k)
+      out = add(out, oriented(topo_.edge_faces[k]));
+    out = unit(out);
+    Vec3 m = face_normal(topo_, x.face);
+    if (dot(m, out) < 0.0) m = scale(m, -1.0);
+    const double facing = dot(m, out);
+    if (facing < 0.2) return;  // the faces nearly perpendicular: not a layer over another
+    double length = 0.0;
+    for (std::uint32_t v : topo_.edges[x.edge])
+      length = std::max(length, (dot(sub(topo_.points[v], corner), m) + clearance) / facing);
+    for (std::uint32_t v : tri) push(v, out, length);
+  }
+
   // Lays the outer component of a layered pair (layered_pairs) on its side of the inner one at
   // the clearance: every vertex of it closer than half an edge and not that far on its side goes
   // to the closest point plus the clearance; the corners of its faces that a vertex of the inner
   // one comes closer to than the clearance (a bulge poking through a flat triangle) move away by
   // the difference.
-  void lay_layer(std::uint32_t a, std::uint32_t b, std::vector<std::uint8_t>& in_moving_set,
-                 Moves& moves) {
+  void lay_layer(const CrossingSet& set, const std::vector<TracedContour>& traced, std::uint32_t a,
+                 std::uint32_t b, std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
     std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;
     const MeshTree& tree_a = component_tree(a, trees);
     const MeshTree& tree_b = component_tree(b, trees);
@@ -601,6 +655,17 @@ class Solver {
         }
       }
     }
+    // Where the layers cross although no vertex above was moved (an edge of one through a face
+    // of the other between vertices that each lie on their side of their closest point, over a
+    // crease or a spike longer than the reach), the crossings themselves say what moves.
+    const std::map<std::uint32_t, Vec3> by_vertices = delta;
+    for (const TracedContour& t : traced) {
+      const std::uint32_t ca = track_component(topo_, set, t, 0);
+      const std::uint32_t cb = track_component(topo_, set, t, 1);
+      if (std::min(ca, cb) != a || std::max(ca, cb) != b || touches(set, t, by_vertices)) continue;
+      for (std::uint32_t ci : t.contour.crossings)
+        lay_crossing(set.items[ci], order, other, clearance, near, delta);
+    }
     for (const auto& [v, d] : delta) {
       if (!free_[v] || moves.has_region[v]) continue;
       moves.region[v] = d;
@@ -616,13 +681,14 @@ class Solver {
   // (an exact copy: the positive side of the other's face normals) at the clearance, wherever it
   // is closer than half an edge. Layered pairs of movable components go to lay_layer instead.
   void separate_coincident_layers(
+      const CrossingSet& set, const std::vector<TracedContour>& traced,
       const std::map<std::pair<std::uint32_t, std::uint32_t>, std::array<std::size_t, 2>>& parallel,
       const std::set<std::pair<std::uint32_t, std::uint32_t>>& layered, const RegionAnalysis& analysis,
       std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
     for (const auto& [key, count] : parallel) {
       const auto [a, b] = key;
       if (layered.count(key)) {
-        lay_layer(a, b, in_moving_set, moves);
+        lay_layer(set, traced, a, b, in_moving_set, moves);
         continue;
       }
       if (2 * count[0] < count[1]) continue;  // surfaces crossing at an angle: not layers
