@@ -423,6 +423,20 @@ class Solver {
     return out;
   }
 
+  // The unit normal of triangle t turned by its orientation sign (face_orientations).
+  Vec3 oriented_normal(std::uint32_t t) const {
+    return scale(face_normal(topo_, t), orientation_[t] < 0 ? -1.0 : 1.0);
+  }
+
+  // Adds to delta[v] what it lacks of `length` along the unit direction `along` (each vertex keeps
+  // the longest push asked of it along a direction).
+  static void push_along(std::map<std::uint32_t, Vec3>& delta, std::uint32_t v, const Vec3& along,
+                         double length) {
+    Vec3& d = delta[v];
+    const double have = dot(d, along);
+    if (have < length) d = add(d, scale(along, length - have));
+  }
+
   // A vertex of one component near another: its closest point there, that face's normal, the
   // signed distance along it.
   struct NearPoint {
@@ -446,7 +460,7 @@ class Solver {
       const Vec3 c{hit.first.x(), hit.first.y(), hit.first.z()};
       if (norm(sub(p, c)) > near) continue;
       const std::uint32_t face = tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
-      const Vec3 n = scale(face_normal(topo_, face), orientation_[face] < 0 ? -1.0 : 1.0);
+      const Vec3 n = oriented_normal(face);
       const double side = dot(sub(p, c), n);
       vote += side > 0 ? 1 : side < 0 ? -1 : 0;
       out.push_back({v, face, c, n, side});
@@ -570,22 +584,17 @@ class Solver {
   }
 
   // The move one crossing of a layered pair asks for, at most `limit` long, added to `delta`
-  // (each vertex keeps the longest push along a direction): a mover edge through an inner face
-  // has its ends laid on the face's outer side at the clearance; an inner edge through a mover
-  // face pushes that face's corners outward until the edge's ends lie the clearance beneath its
-  // plane. Outward is taken from the inner layer's faces each time: the mover's own normals turn
+  // (push_along): a mover edge through an inner face has its ends laid on the face's outer side
+  // at the clearance; an inner edge through a mover face pushes that face's corners outward until
+  // the edge's ends lie the clearance beneath its plane. Outward is taken from the inner layer's faces each time: the mover's own normals turn
   // over where it folds (a turned-down collar).
   void lay_crossing(const RawCrossing& x, const LayerOrder& order, std::uint32_t inner,
                     double clearance, double limit, std::map<std::uint32_t, Vec3>& delta) const {
     auto push = [&](std::uint32_t v, const Vec3& along, double length) {
-      length = std::min(length, limit);
-      Vec3& d = delta[v];
-      const double have = dot(d, along);
-      if (have < length) d = add(d, scale(along, length - have));
+      push_along(delta, v, along, std::min(length, limit));
     };
-    auto oriented = [&](std::uint32_t f) {
-      return scale(face_normal(topo_, f), orientation_[f] < 0 ? -order.side : order.side);
-    };
+    // Where the mover belongs, seen from face f of the inner layer.
+    auto oriented = [&](std::uint32_t f) { return scale(oriented_normal(f), order.side); };
     const auto& tri = topo_.tris[x.face];
     const Vec3& corner = topo_.points[tri[0]];
     if (topo_.tri_component(x.face) == inner) {
@@ -613,7 +622,8 @@ class Solver {
   // the clearance: every vertex of it closer than half an edge and not that far on its side goes
   // to the closest point plus the clearance; the corners of its faces that a vertex of the inner
   // one comes closer to than the clearance (a bulge poking through a flat triangle) move away by
-  // the difference.
+  // the difference; a contour between them that none of these moves touches moves by its
+  // crossings (lay_crossing), at most half an edge per step.
   void lay_layer(const CrossingSet& set, const std::vector<TracedContour>& traced, std::uint32_t a,
                  std::uint32_t b, std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
     std::map<std::uint32_t, std::unique_ptr<MeshTree>> trees;
@@ -648,24 +658,22 @@ class Solver {
         if (gap >= 0.5 * clearance) continue;
         const Vec3 along = scale(x.n, -order.other_side);  // away from the inner vertex
         const double length = clearance - gap;
-        for (std::uint32_t v : topo_.tris[x.face]) {
-          Vec3& d = delta[v];
-          const double have = dot(d, along);
-          if (have < length) d = add(d, scale(along, length - have));
-        }
+        for (std::uint32_t v : topo_.tris[x.face]) push_along(delta, v, along, length);
       }
     }
     // Where the layers cross although no vertex above was moved (an edge of one through a face
     // of the other between vertices that each lie on their side of their closest point, over a
     // crease or a spike longer than the reach), the crossings themselves say what moves.
-    const std::map<std::uint32_t, Vec3> by_vertices = delta;
+    std::vector<const TracedContour*> untouched;
     for (const TracedContour& t : traced) {
       const std::uint32_t ca = track_component(topo_, set, t, 0);
       const std::uint32_t cb = track_component(topo_, set, t, 1);
-      if (std::min(ca, cb) != a || std::max(ca, cb) != b || touches(set, t, by_vertices)) continue;
-      for (std::uint32_t ci : t.contour.crossings)
-        lay_crossing(set.items[ci], order, other, clearance, near, delta);
+      if (std::min(ca, cb) == a && std::max(ca, cb) == b && !touches(set, t, delta))
+        untouched.push_back(&t);
     }
+    for (const TracedContour* t : untouched)
+      for (std::uint32_t ci : t->contour.crossings)
+        lay_crossing(set.items[ci], order, other, clearance, near, delta);
     for (const auto& [v, d] : delta) {
       if (!free_[v] || moves.has_region[v]) continue;
       moves.region[v] = d;
