@@ -523,7 +523,9 @@ class Solver {
     bool interleaved = false;  // no clear majority of sides: lay_layer rather than the area rule
     std::uint32_t mover = 0;
     double side = 1.0;  // the mover's side of the other's faces
-    double other_side = 0.0;  // the other's side of the mover's faces (0: no majority)
+    // Whether the two layers' face normals mostly agree, or mostly disagree, where they are near
+    // (a tie, as between an exact copy and its original, leaves the inner layer's bulges alone).
+    bool normals_decided = false;
   };
 
   LayerOrder decide_layer_order(std::uint32_t a, std::uint32_t b) {
@@ -555,14 +557,12 @@ class Solver {
     const long long vote = a_moves ? vote_a : vote_b;
     // An exact copy has no majority and goes to the positive side.
     order.side = vote < 0 ? -1.0 : 1.0;
-    // The other lies on the opposite side of the mover when their faces point the same way where
-    // they are near, on the same side otherwise: the two sides follow from one vote, as they must.
     long long aligned = 0;
     for (const NearPoint& x : a_moves ? a_near : b_near) {
       const double c = dot(oriented_vertex_normal(x.v), x.n);
       aligned += c > 0 ? 1 : c < 0 ? -1 : 0;
     }
-    order.other_side = aligned == 0 ? 0.0 : aligned > 0 ? -order.side : order.side;
+    order.normals_decided = aligned != 0;
     // Interleaved: a quarter or more of the near vertices on the minority side.
     const std::size_t near = a_near.size() + b_near.size();
     order.interleaved = near > 0 && 2 * static_cast<std::size_t>(std::llabs(vote_a) + std::llabs(vote_b)) <= near;
@@ -650,15 +650,17 @@ class Solver {
       if (past_hem || (norm(sub(topo_.points[x.v], x.c)) > near && order.side * x.side >= 0.0)) continue;
       delta[x.v] = sub(add(x.c, scale(x.n, order.side * clearance)), topo_.points[x.v]);
     }
-    if (order.other_side != 0.0) {
+    if (order.normals_decided) {
       const std::uint32_t other_mesh = topo_.component_mesh[other];
       for (const NearPoint& x :
            near_points(other, mover_tree, 0.5 * mean_edge_[other_mesh], unused)) {
-        const double gap = order.other_side * x.side;
+        // Outward is the inner vertex's own normal turned to the mover's side: the mover's face
+        // normals turn over where it folds (a turned-down collar), and pushing along them took
+        // the collar into the body.
+        const Vec3 along = scale(oriented_vertex_normal(x.v), order.side);
+        const double gap = dot(sub(x.c, topo_.points[x.v]), along);
         if (gap >= 0.5 * clearance) continue;
-        const Vec3 along = scale(x.n, -order.other_side);  // away from the inner vertex
-        const double length = clearance - gap;
-        for (std::uint32_t v : topo_.tris[x.face]) push_along(delta, v, along, length);
+        for (std::uint32_t v : topo_.tris[x.face]) push_along(delta, v, along, clearance - gap);
       }
     }
     // Where the layers cross although no vertex above was moved (an edge of one through a face
@@ -956,7 +958,13 @@ class Solver {
           sides.push_back({k, std::move(piece), area, nullptr, nullptr});
         }
     }
-    if (sides.empty()) return;
+    if (sides.empty()) {
+      // Nothing labelled illegal (a fold lying over itself, crossed where it touches): the fold's
+      // outer sheet may still be laid outside its inner one.
+      Choice fold = fold_layer_choice(set, traced, moves);
+      if (fold.gain > 0) make_measured_move(fold, in_moving_set, moves);
+      return;
+    }
 
     // The other track's sheet for a side of track k: the faces its crossing edges pass through and
     // the other track's crossing edges, grown by `rings`, never into the moving side nor into
@@ -1007,6 +1015,10 @@ class Solver {
       for (Side& side : sides) side.wide = sheet(side, rings, &own_side[side.track]);
       take_better(chosen, measured_choice(set, candidates_of(true)));
     }
+    if (chosen.gain <= 0) {
+      Choice fold = fold_layer_choice(set, traced, moves);
+      if (fold.gain > 0) chosen = std::move(fold);
+    }
     if (chosen.gain > 0) {
       make_measured_move(chosen, in_moving_set, moves);
       return;
@@ -1037,6 +1049,81 @@ class Solver {
     std::vector<Vec3> delta;
     std::vector<Vec3> at;  // the part's positions after the move
   };
+
+  // A fold of one component lying over itself near a closed obstacle (a turned-down collar over
+  // its neck band, a hem turned up inside a skirt), crossed where the two sheets touch: the region
+  // rules see no illegal side there, and the per-crossing rule shears the fold into the body. The
+  // contour's two sheets are laid one outside the other instead, outward meaning away from the
+  // nearest closed obstacle: an outer edge through an inner face has its ends laid outside the
+  // face at the clearance, an inner edge through an outer face pushes that face's corners out until
+  // the edge lies the clearance beneath it (as lay_crossing does for two layers), at most half an
+  // edge per vertex. Each track is tried as the inner one; the move is measured (TrialMove) and the
+  // one that removes most crossings is returned (none when the scene has no closed obstacle).
+  Choice fold_layer_choice(const CrossingSet& set, const TracedContour& traced, const Moves& moves) {
+    Choice best;
+    const Contour& c = traced.contour;
+    if (c.crossings.empty()) return best;
+    const std::uint32_t mesh = topo_.tri_mesh[set.items[c.crossings[0]].face];
+    const double clearance = options_.clearance * mean_edge_[mesh];
+    const double limit = 0.5 * mean_edge_[mesh];
+    // Away from the body at each crossing.
+    std::vector<Vec3> outward;
+    for (std::uint32_t ci : c.crossings) {
+      Vec3 body{};
+      if (!nearest_obstacle_point(set.items[ci].point, body)) return best;
+      outward.push_back(unit(sub(set.items[ci].point, body)));
+    }
+    // face_normal(t) turned to agree with o.
+    auto facing = [&](std::uint32_t t, const Vec3& o) {
+      const Vec3 n = face_normal(topo_, t);
+      return dot(n, o) < 0.0 ? scale(n, -1.0) : n;
+    };
+    for (int inner = 0; inner < 2; ++inner) {
+      std::map<std::uint32_t, Vec3> delta;  // ordered: the result does not depend on hashing
+      auto push = [&](std::uint32_t v, const Vec3& along, double length) {
+        push_along(delta, v, along, std::min(length, limit));
+      };
+      for (std::size_t i = 0; i < c.crossings.size(); ++i) {
+        const RawCrossing& x = set.items[c.crossings[i]];
+        const auto& tri = topo_.tris[x.face];
+        const Vec3& corner = topo_.points[tri[0]];
+        if (traced.edge_track[i] != inner) {
+          const Vec3 out = facing(x.face, outward[i]);
+          for (std::uint32_t v : topo_.edges[x.edge])
+            push(v, out, clearance - dot(sub(topo_.points[v], corner), out));
+          continue;
+        }
+        Vec3 out{0.0, 0.0, 0.0};
+        for (std::uint32_t k = topo_.edge_face_begin[x.edge]; k < topo_.edge_face_begin[x.edge + 1]; ++k)
+          out = add(out, facing(topo_.edge_faces[k], outward[i]));
+        out = unit(out);
+        const Vec3 m = facing(x.face, out);
+        const double cosine = dot(m, out);
+        if (cosine < 0.2) continue;  // the sheets nearly perpendicular: not a fold lying over itself
+        double length = 0.0;
+        for (std::uint32_t v : topo_.edges[x.edge])
+          length = std::max(length, (dot(sub(topo_.points[v], corner), m) + clearance) / cosine);
+        for (std::uint32_t v : tri) push(v, out, length);
+      }
+      Choice option;
+      option.strain = 0.0;
+      for (const auto& [v, d] : delta) {
+        if (!free_[v] || measured_[v] || moves.has_region[v]) continue;
+        Vec3 at = add(topo_.points[v], d);
+        if (round_) at = round_(at);
+        if (at == topo_.points[v]) continue;
+        option.part.push_back(v);
+        option.delta.push_back(sub(at, topo_.points[v]));
+        option.at.push_back(at);
+      }
+      if (option.part.empty() || 3 * option.part.size() > trial_budget_) continue;
+      trial_budget_ -= 3 * option.part.size();
+      const TrialCount count = trial_->count(settings_, *hierarchy_, set, option.part, option.at, true);
+      option.gain = static_cast<long long>(count.before) - static_cast<long long>(count.after);
+      if (option.gain > best.gain) best = std::move(option);
+    }
+    return best;
+  }
 
   // Makes a measured move and lets later measurements in this step see it.
   void make_measured_move(const Choice& chosen, std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
