@@ -417,6 +417,46 @@ Scene interleaved_layers(int slices, int rings) {
   return scene;
 }
 
+Scene turned_down_collar(int slices, int band_rings) {
+  if (slices < 3 || band_rings < 2) throw std::invalid_argument("turned_down_collar: too few vertices");
+  Scene scene;
+  scene.name = "turned_down_collar";
+  // The dress's rings from its collar's hem (z = 0.55) up to the fold and down its band: z of each.
+  const int collar_rings = std::max(2, band_rings / 5);
+  std::vector<double> ring_z;
+  for (int i = 0; i < collar_rings; ++i) ring_z.push_back(0.55 + 0.38 * i / (collar_rings - 1));
+  for (int i = 0; i < band_rings; ++i) ring_z.push_back(0.95 - 2.0 * i / (band_rings - 1));
+  const int rings = static_cast<int>(ring_z.size());
+  Mesh dress = open_tube({0.0, 0.0, 0.0}, 1.0, 1.0, slices, rings, "dress");
+  for (int r = 0; r < rings; ++r) {
+    for (int j = 0; j < slices; ++j) {
+      Vec3& p = dress.positions[static_cast<std::size_t>(r) * slices + j];
+      const double phi = std::atan2(p[1], p[0]);
+      const double z = ring_z[r];
+      double rho = 0.0;
+      if (r < collar_rings) {
+        // The collar is pressed onto the band, 0.004 outside it on average, and wobbles by as
+        // much: over the sharp fold its triangles cross the band's through shared vertices.
+        rho = 0.906 + 0.004 * std::sin(7.0 * phi + 0.9);
+      } else {
+        // The band wobbles round the t-shirt as interleaved_layers' dress does.
+        const double w = kPi * z / 2.2;
+        rho = 0.902 + 0.01 * (0.6 * std::sin(6.0 * phi + 0.37) * std::sin(4.0 * w + 0.21) +
+                              0.4 * std::sin(9.0 * phi + 1.1) * std::sin(6.0 * w + 0.7));
+      }
+      p = {rho * std::cos(phi), rho * std::sin(phi), z};
+    }
+  }
+  scene.movable.push_back(std::move(dress));
+  // The t-shirt reaches under the collar; other vertex counts than the dress.
+  scene.movable.push_back(
+      open_tube({0.0, 0.0, -0.05}, 0.9, 1.9, slices - 7, band_rings - 3, "t-shirt"));
+  Mesh body = capsule({0.0, 0.0, 0.0}, 0.8, 2.4, slices, band_rings, "body");
+  body.role = Role::kObstacle;
+  scene.obstacles.push_back(body);
+  return scene;
+}
+
 Mesh self_intersecting_obstacle(int slices) {
   const Mesh along_y =
       rotated(capsule({0.0, 0.0, 0.0}, 0.5, 1.6, slices, 9, "a"), 0, 0.5 * kPi, {0.0, 0.0, 0.0});

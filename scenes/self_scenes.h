@@ -74,6 +74,14 @@ Scene three_layers(int slices, int rings);
 // over: the two cross everywhere at a small angle, the way MakeHuman's dress and t-shirt for one
 // body do.
 Scene interleaved_layers(int slices, int rings);
+// A dress with a turned-down collar over a t-shirt over a body: the dress's band (radius 0.902,
+// wobbling 0.01 round the t-shirt as in interleaved_layers) rises to z = 0.95 and folds sharply
+// down again as a collar pressed onto it (radius 0.906, wobbling 0.004) to z = 0.55. Over the
+// fold, collar and band triangles that share a vertex cross (contours through loop vertices), and
+// the collar dips through the band in patches. The t-shirt (radius 0.9, an open tube up to
+// z = 0.9) lies under band and collar; the body is a closed capsule (radius 0.8, obstacle).
+// `band_rings` rings along the band, a fifth of that along the collar.
+Scene turned_down_collar(int slices, int band_rings);
 // Two overlapping capsules (one along y, one along x, their caps and walls crossing) as one closed
 // but self-intersecting mesh.
 Mesh self_intersecting_obstacle(int slices);
