@@ -111,6 +111,9 @@ constexpr std::size_t kMeasuredVertices = 2500;
 // around its vertices, this many smoothing sweeps.
 constexpr int kRelaxRings = 4;
 constexpr int kRelaxSweeps = 10;
+// Relaxations measure at most 1/kRelaxShare of the mesh's triangles (and 5,000) per step: where
+// they help, a few small ones do; on two whole garments the step's budget goes to the moves.
+constexpr std::size_t kRelaxShare = 20;
 
 class Solver {
  public:
@@ -222,7 +225,7 @@ class Solver {
         best_length = std::min(best_length, counts.contour_length);
         since_best = 0;
       } else if (++since_best >= options_.stall_iterations) {
-        if (escalate(traced, hierarchy, since_best)) continue;
+        if (escalate(hierarchy, since_best)) continue;
         result.stalled = true;
         break;
       }
@@ -234,11 +237,12 @@ class Solver {
       for (std::uint32_t v : measured_list_) measured_[v] = 0;
       measured_list_.clear();
       trial_budget_ = 2 * topo_.tris.size() + 20000;
+      relax_budget_ = topo_.tris.size() / kRelaxShare + 5000;
       const bool moved = step(set, traced, result);
       result.resolve_ms += ms(t2, Clock::now());
       result.displace_ms = result.resolve_ms - result.regions_ms;
       if (!moved) {
-        if (escalate(traced, hierarchy, since_best)) continue;
+        if (escalate(hierarchy, since_best)) continue;
         result.stalled = true;
         break;
       }
@@ -262,17 +266,14 @@ class Solver {
   }
 
  private:
-  // The second stage of the region method, once: when the run stalls with a self contour left,
-  // it starts again from the input with each track's own pieces as further candidate sides of
-  // the self contours (self_contour_move), flaps beyond the other surface's edge (flap_move) and
-  // only measured moves on self contours. Only the best state is ever written, so the second stage
-  // can cost time but never leave more crossings than the first.
-  bool escalate(const std::vector<TracedContour>& traced, std::unique_ptr<SceneHierarchy>& hierarchy,
-                int& since_best) {
+  // The second stage of the region method, once: when the run stalls with crossings left, it
+  // starts again from the input with each track's own pieces as further candidate sides of the
+  // self contours (self_contour_move), flaps beyond the other surface's edge (flap_move), and only
+  // measured moves (the crossing step or the neighbourhood relaxed) on contours whose two sides
+  // both move. Only the best state is ever written, so the second stage can cost time but never
+  // leave more crossings than the first.
+  bool escalate(std::unique_ptr<SceneHierarchy>& hierarchy, int& since_best) {
     if (pieces_ || best_points_.empty() || options_.method != FixMethod::kRegion) return false;
-    const bool self = std::any_of(traced.begin(), traced.end(),
-                                  [](const TracedContour& t) { return t.contour.self; });
-    if (!self) return false;
     pieces_ = true;
     topo_.points = start_points_;
     hierarchy.reset();  // positions jumped: the next detection is a full one
@@ -349,9 +350,10 @@ class Solver {
       // what lies beneath it.
       const std::uint32_t ca = track_component(topo_, set, t, 0), cb = track_component(topo_, set, t, 1);
       if (layered.count({std::min(ca, cb), std::max(ca, cb)})) continue;
-      // The second stage makes only measured moves on self contours: on a finely subdivided fold
-      // the per-crossing rule's shear is what tangles it further.
-      if (pieces_ && c.self) measured_crossing_move(set, t, analysis, in_moving_set, moves);
+      // The second stage makes only measured moves where both sides move (a self contour, two
+      // movable components): on a finely subdivided fold the per-crossing rule's shear is what
+      // tangles it further. Against an obstacle the per-crossing rule acts.
+      if (pieces_ && !touches_obstacle(set, c)) measured_crossing_move(set, t, analysis, in_moving_set, moves);
       else crossing_moves(set, t, analysis, moves);
     }
 
@@ -1590,15 +1592,24 @@ class Solver {
       scratch.crossing[v] = Vec3{0, 0, 0};
       scratch.crossing_count[v] = 0;
     }
-    // The step, and the neighbourhood relaxed: the better of the two that removes crossings.
-    Choice chosen = relax_choice(set, touched, moves);
+    // The step; when it removes nothing, the neighbourhood relaxed.
+    Choice chosen;
     if (!step.part.empty() && 3 * step.part.size() <= trial_budget_) {
       trial_budget_ -= 3 * step.part.size();
       const TrialCount count = trial_->count(settings_, *hierarchy_, set, step.part, step.at, true);
       step.gain = static_cast<long long>(count.before) - static_cast<long long>(count.after);
-      if (step.gain > chosen.gain) chosen = std::move(step);
+      chosen = std::move(step);
     }
+    if (chosen.gain <= 0) chosen = relax_choice(set, touched, moves);
     if (chosen.gain > 0) make_measured_move(chosen, in_moving_set, moves);
+  }
+
+  // Whether one side of a contour is an obstacle (its crossings all join the same two components).
+  bool touches_obstacle(const CrossingSet& set, const Contour& c) const {
+    if (c.crossings.empty()) return false;
+    const RawCrossing& x = set.items[c.crossings.front()];
+    return meshes_[topo_.tri_mesh[x.face]].role == Role::kObstacle ||
+           meshes_[topo_.edge_mesh(x.edge)].role == Role::kObstacle;
   }
 
   bool on_boundary(std::uint32_t v) const {
@@ -1635,7 +1646,7 @@ class Solver {
       std::vector<std::uint32_t> part;  // ascending
       for (std::uint32_t v : region)
         if (free_[v] && !measured_[v] && !moves.has_region[v]) part.push_back(v);
-      if (part.empty() || 3 * part.size() > trial_budget_) continue;
+      if (part.empty() || 3 * part.size() > trial_budget_ || 3 * part.size() > relax_budget_) continue;
       std::vector<Vec3> at(part.size());
       for (std::size_t i = 0; i < part.size(); ++i) at[i] = topo_.points[part[i]];
       auto position = [&](const std::vector<Vec3>& now, std::uint32_t w) {
@@ -1670,6 +1681,7 @@ class Solver {
       }
       if (option.part.empty()) continue;
       trial_budget_ -= 3 * option.part.size();
+      relax_budget_ -= 3 * option.part.size();
       const TrialCount count = trial_->count(settings_, *hierarchy_, set, option.part, option.at, true);
       option.gain = static_cast<long long>(count.before) - static_cast<long long>(count.after);
       if (option.gain > best.gain) best = std::move(option);
@@ -1927,6 +1939,7 @@ class Solver {
   const SceneHierarchy* hierarchy_ = nullptr;  // at the current positions, during a step
   std::unique_ptr<TrialMove> trial_;
   std::size_t trial_budget_ = 0;  // triangles measured moves may still touch in this step
+  std::size_t relax_budget_ = 0;  // the part of it relaxations may still spend
   bool wide_tried_ = false;       // a wide patch was built in this step
   bool pieces_ = false;           // the second stage (escalate): track pieces are candidates
   std::unique_ptr<Moves> crossing_scratch_;  // measured_crossing_move's, all zero between calls
