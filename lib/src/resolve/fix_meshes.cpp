@@ -1561,10 +1561,10 @@ class Solver {
     move_regions(smallest.mesh, smallest.orientation, smallest.vertices, *smallest.tree, moves);
   }
 
-  // The per-crossing rule's step for one contour and the contour's neighbourhood relaxed
-  // (relax_choice), measured (TrialMove); the better is made when it removes crossings: a pinch
-  // between two triangles next to a moved flap is undone, a shear that would tangle a fold further
-  // is not made.
+  // The per-crossing rule's step for one contour, measured (TrialMove) and made when it removes
+  // crossings: a pinch between two triangles next to a moved flap is undone, a shear that would
+  // tangle a fold further is not made. When the step removes nothing, the contour's neighbourhood
+  // relaxed (relax_choice) is made if it does.
   void measured_crossing_move(const CrossingSet& set, const TracedContour& t, const RegionAnalysis& analysis,
                               std::vector<std::uint8_t>& in_moving_set, Moves& moves) {
     if (!crossing_scratch_) crossing_scratch_ = std::make_unique<Moves>(topo_.points.size());
