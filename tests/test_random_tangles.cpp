@@ -334,8 +334,6 @@ TEST(RandomTangles, FixIsCleanOrListsWhatRemains) {
   RecordProperty("unresolved", static_cast<int>(tally.unresolved));
 }
 
-// ---- the generator ----
-
 // Scenes without a self contour whose first stage stalls: the second stage, with only measured
 // steps and relaxed neighbourhoods on the contours between movable meshes, resolves them. (The
 // second stage once ran only for self contours; these four then ended with 12, 4, 9 and 14
@@ -361,6 +359,8 @@ TEST(RandomTangles, SecondStageResolvesWhatTheFirstLeaves) {
     EXPECT_GT(first_best, 0u);
   }
 }
+
+// ---- the generator ----
 
 TEST(RandomTangles, SameSeedSameScene) {
   for (std::uint64_t seed : {0u, 7u, 123456789u}) {
