@@ -80,25 +80,6 @@ std::vector<BenchCase> generated_cases(bool quick, const fs::path& folder) {
   return cases;
 }
 
-// Scales every position by `factor` about the centre of the bounding box of all meshes.
-std::vector<Mesh> scaled_about_centre(std::vector<Mesh> meshes, double factor) {
-  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-  for (const Mesh& m : meshes) {
-    for (const Vec3& p : m.positions) {
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], p[k]);
-        hi[k] = std::max(hi[k], p[k]);
-      }
-    }
-  }
-  for (Mesh& m : meshes) {
-    for (Vec3& p : m.positions) {
-      for (int k = 0; k < 3; ++k) p[k] = 0.5 * (lo[k] + hi[k]) + factor * (p[k] - 0.5 * (lo[k] + hi[k]));
-    }
-  }
-  return meshes;
-}
-
 constexpr double kBodyScale = 1.02;
 
 // Every garment/body pair of a MakeHuman-style folder: DIR/garments/<prefix>_*.obj against
@@ -107,37 +88,12 @@ constexpr double kBodyScale = 1.02;
 // garments for one body worn together on it.
 std::vector<BenchCase> data_cases(const std::string& dir, const fs::path& folder,
                                   std::vector<std::string>& notes) {
-  const fs::path garments_dir = fs::path(dir) / "garments";
-  const fs::path bodies_dir = fs::path(dir) / "bodies";
-  if (!fs::is_directory(garments_dir) || !fs::is_directory(bodies_dir)) {
-    throw Error(ExitCode::kUnreadableInput, dir,
-                "no garments/ and bodies/ folders (expected garments/<prefix>_*.obj and "
-                "bodies/<prefix>_generic.obj)");
-  }
-  std::vector<std::pair<std::string, std::string>> pairs;  // garment path, body path
-  for (const fs::directory_entry& entry : fs::directory_iterator(garments_dir)) {
-    const fs::path& p = entry.path();
-    if (!entry.is_regular_file() || p.extension() != ".obj") continue;
-    const std::string stem = p.stem().string();
-    const std::size_t underscore = stem.find('_');
-    if (underscore == std::string::npos) continue;
-    const fs::path body = bodies_dir / (stem.substr(0, underscore) + "_generic.obj");
-    if (!fs::is_regular_file(body)) {
-      notes.push_back(p.string() + ": no body " + body.string() + ", left out");
-      continue;
-    }
-    pairs.emplace_back(p.string(), body.string());
-  }
-  if (pairs.empty()) {
-    throw Error(ExitCode::kUnreadableInput, dir,
-                "no garments/<prefix>_*.obj with a matching bodies/<prefix>_generic.obj");
-  }
-  std::sort(pairs.begin(), pairs.end());
+  const std::vector<std::pair<std::string, std::string>> pairs = scenes::garment_body_pairs(dir, notes);
   std::map<std::string, std::vector<std::string>> scaled;  // body path -> its scaled meshes
   std::vector<BenchCase> cases;
   for (const auto& [garment, body] : pairs) {
     if (scaled.count(body) == 0) {
-      const std::vector<Mesh> meshes = scaled_about_centre(read_meshes(body, Role::kObstacle), kBodyScale);
+      const std::vector<Mesh> meshes = scenes::scaled_about_centre(read_meshes(body, Role::kObstacle), kBodyScale);
       const fs::path out = folder / (fs::path(body).stem().string() + "_x1.02");
       scaled[body] = scenes::write_scene_files({"", {}, meshes}, out.string()).obstacles;
     }

@@ -417,11 +417,12 @@ Scene sheet_on_spikes() {
 // A square panel (side 1.8) at height 0.0137 through a closed sphere of radius 1: the middle of the
 // panel, most of its area, is inside the body; only its four corners stick out. "The smaller
 // region is illegal" would push the corners in; the body's inside says the middle is illegal.
-Scene panel_in_body() {
+Scene panel_in_body(double side) {
   Scene scene;
   scene.name = "panel_in_body";
-  scene.movable.push_back(
-      grid_sheet(37, 37, {-0.9029, -0.8987, 0.0137}, {1.8, 0.0, 0.0}, {0.0, 1.8, 0.0}, "panel"));
+  const int n = static_cast<int>(std::lround(side / 0.05)) + 1;
+  scene.movable.push_back(grid_sheet(n, n, {-0.5 * side - 0.0029, -0.5 * side + 0.0013, 0.0137},
+                                     {side, 0.0, 0.0}, {0.0, side, 0.0}, "panel"));
   scene.obstacles.push_back(obstacle(uv_sphere({0.0, 0.0, 0.0}, 1.0, 48, 24, "body")));
   return scene;
 }
@@ -460,6 +461,19 @@ Scene sheet_through_cow(int n) {
   return scene;
 }
 
+Scene sheet_over_cow_rump(double y, int n) {
+  const std::string path = cow_path();
+  if (path.empty()) throw std::runtime_error("sheet_over_cow_rump: the cow (libcgal-demo) is absent");
+  Scene scene;
+  scene.name = "sheet_over_cow_rump";
+  for (Mesh& mesh : read_meshes(path, Role::kObstacle)) scene.obstacles.push_back(std::move(mesh));
+  // The cow spans x -0.5 (tail) to 0.5 (head), z -0.163 to 0.163; the sheet reaches from behind
+  // the tail to the middle of the back, where the back is lower than the rump.
+  scene.movable.push_back(grid_sheet(n, n, {-0.5513, y, -0.2037}, {0.6024, 0.0, 0.0},
+                                     {0.0, 0.0, 0.4048}, "sheet"));
+  return scene;
+}
+
 Scene sheet_through_capsule(int n) {
   Scene scene;
   scene.name = "sheet_through_capsule_" + std::to_string(n);
@@ -482,6 +496,54 @@ std::vector<Mesh> scene_meshes(const Scene& scene) {
     meshes.back().role = Role::kObstacle;
   }
   return meshes;
+}
+
+std::vector<Mesh> scaled_about_centre(std::vector<Mesh> meshes, double factor) {
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  for (const Mesh& m : meshes) {
+    for (const Vec3& p : m.positions) {
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], p[k]);
+        hi[k] = std::max(hi[k], p[k]);
+      }
+    }
+  }
+  const Vec3 centre = scale(add(lo, hi), 0.5);
+  for (Mesh& m : meshes)
+    for (Vec3& p : m.positions) p = add(centre, scale(sub(p, centre), factor));
+  return meshes;
+}
+
+std::vector<std::pair<std::string, std::string>> garment_body_pairs(const std::string& dir,
+                                                                    std::vector<std::string>& notes) {
+  namespace fs = std::filesystem;
+  const fs::path garments_dir = fs::path(dir) / "garments";
+  const fs::path bodies_dir = fs::path(dir) / "bodies";
+  if (!fs::is_directory(garments_dir) || !fs::is_directory(bodies_dir)) {
+    throw Error(ExitCode::kUnreadableInput, dir,
+                "no garments/ and bodies/ folders (expected garments/<prefix>_*.obj and "
+                "bodies/<prefix>_generic.obj)");
+  }
+  std::vector<std::pair<std::string, std::string>> pairs;  // garment path, body path
+  for (const fs::directory_entry& entry : fs::directory_iterator(garments_dir)) {
+    const fs::path& p = entry.path();
+    if (!entry.is_regular_file() || p.extension() != ".obj") continue;
+    const std::string stem = p.stem().string();
+    const std::size_t underscore = stem.find('_');
+    if (underscore == std::string::npos) continue;
+    const fs::path body = bodies_dir / (stem.substr(0, underscore) + "_generic.obj");
+    if (!fs::is_regular_file(body)) {
+      notes.push_back(p.string() + ": no body " + body.string() + ", left out");
+      continue;
+    }
+    pairs.emplace_back(p.string(), body.string());
+  }
+  if (pairs.empty()) {
+    throw Error(ExitCode::kUnreadableInput, dir,
+                "no garments/<prefix>_*.obj with a matching bodies/<prefix>_generic.obj");
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
 }
 
 void write_obj(const Mesh& mesh, const std::string& path) {

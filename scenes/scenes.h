@@ -3,6 +3,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "untangle/mesh.h"
@@ -63,12 +64,29 @@ Scene tube_around_body();
 Scene garment_four_loops();
 // A sheet lying on cone spikes whose tips poke through (spikes as obstacle).
 Scene sheet_on_spikes();
-// A panel mostly inside a closed body, only its corners outside (the case where "small is
-// illegal" picks the wrong side; not in named_scenes()).
-Scene panel_in_body();
+// A square panel of side `side` through the middle of a closed unit sphere (the body), its
+// vertices about 0.05 apart. At the default 1.8 it is mostly inside, only its corners outside: the
+// case where "small is illegal" picks the wrong side. Inside the body lie about pi / side^2 of a
+// panel of side 2 or more, all of it within its boundary (not in named_scenes()).
+Scene panel_in_body(double side = 1.8);
 // An n x n sheet through the cow (requires cow_path() non-empty). The sheet cuts the cow's body
 // across its middle.
 Scene sheet_through_cow(int n);
+// An n x n horizontal sheet at height y (the cow's up axis; its back is at 0.21 to 0.24 over the
+// rump) over the back half of the cow, rump and tail (requires cow_path() non-empty). The cow
+// intersects itself where its tail passes through its rump, at heights 0.19 to 0.215: a sheet
+// between 0.2 and 0.215 is pressed into the rump around that self-intersection; one lower than
+// 0.2 is pierced by the hanging tail. The cow is the obstacle.
+Scene sheet_over_cow_rump(double y, int n);
+
+// Every position of `meshes` scaled by `factor` about the centre of their common bounding box.
+std::vector<Mesh> scaled_about_centre(std::vector<Mesh> meshes, double factor);
+
+// The garment/body pairs of a MakeHuman-style folder, sorted: every DIR/garments/<prefix>_*.obj
+// with its body DIR/bodies/<prefix>_generic.obj. A garment without its body is left out with a
+// line in `notes`. Throws Error(kUnreadableInput) when the folders are missing or hold no pair.
+std::vector<std::pair<std::string, std::string>> garment_body_pairs(const std::string& dir,
+                                                                    std::vector<std::string>& notes);
 
 // An n x n sheet (3 x 3) across the cylinder of a closed capsule (radius 0.6, obstacle): one
 // CL/CL contour around a disc of about n^2 / 8 sheet vertices, for timing larger repairs without
