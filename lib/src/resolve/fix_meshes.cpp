@@ -1,11 +1,6 @@
 // fix_meshes: detect -> contours -> regions -> displacements, until clean, capped or stalled.
 #include "untangle/fix.h"
 
-#include <CGAL/AABB_traits.h>
-#include <CGAL/AABB_tree.h>
-#include <CGAL/AABB_triangle_primitive.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -23,17 +18,18 @@
 #include "detect/detect_crossings.h"
 #include "detect/orientation.h"
 #include "detect/triangle_bvh.h"
+#include "resolve/buried_faces.h"
 #include "resolve/region_analysis.h"
 #include "resolve/trial_move.h"
+#include "resolve/triangle_tree.h"
 #include "topology/scene_topology.h"
 
 namespace untangle {
 namespace {
 
-using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
-using TriangleList = std::vector<Kernel::Triangle_3>;
-using Primitive = CGAL::AABB_triangle_primitive<Kernel, TriangleList::const_iterator>;
-using Tree = CGAL::AABB_tree<CGAL::AABB_traits<Kernel, Primitive>>;
+using Kernel = TreeKernel;
+using TriangleList = TreeTriangleList;
+using Tree = TriangleTree;
 using Clock = std::chrono::steady_clock;
 
 Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
@@ -361,7 +357,9 @@ class Solver {
   }
 
   // The closest-point tree of a whole component: kept for the run when the component is an
-  // obstacle (it never moves), built into `fresh` for this step otherwise.
+  // obstacle (it never moves), built into `fresh` for this step otherwise. A closed obstacle that
+  // passes through itself (the cow's tail through its rump) leaves out its buried faces: a point
+  // on one, or a ray's exit through one, is still inside the obstacle.
   const MeshTree& component_tree(std::uint32_t component,
                                  std::map<std::uint32_t, std::unique_ptr<MeshTree>>& fresh) {
     const bool fixed = meshes_[topo_.component_mesh[component]].role == Role::kObstacle;
@@ -371,9 +369,40 @@ class Solver {
       const std::uint32_t m = topo_.component_mesh[component];
       for (std::uint32_t t = topo_.mesh_tri_begin[m]; t < topo_.mesh_tri_begin[m + 1]; ++t)
         if (topo_.tri_component(t) == component) tris.push_back(t);
+      if (fixed && region_settings_.orientation[component] != 0) {
+        const std::vector<std::uint8_t>& buried = buried_obstacle_faces();
+        std::vector<std::uint32_t> exposed;
+        for (std::uint32_t t : tris)
+          if (!buried[t]) exposed.push_back(t);
+        if (!exposed.empty()) tris = std::move(exposed);
+      }
       tree = build_tree(topo_, tris);
     }
     return *tree;
+  }
+
+  // Per triangle: 1 for a buried face of a closed obstacle component (buried_faces: inside an
+  // obstacle, or on a curve where the closed obstacles pass through themselves or each other).
+  // Worked out once, when a closed obstacle's tree is first needed.
+  const std::vector<std::uint8_t>& buried_obstacle_faces() {
+    if (!buried_.empty()) return buried_;
+    buried_.assign(topo_.tris.size(), 0);
+    std::vector<ClosedSurface> surfaces;
+    std::vector<std::uint32_t> of_component(topo_.component_mesh.size(), kNone);
+    for (std::uint32_t c = 0; c < topo_.component_mesh.size(); ++c) {
+      if (movable_component(c) || region_settings_.orientation[c] == 0) continue;
+      of_component[c] = static_cast<std::uint32_t>(surfaces.size());
+      surfaces.push_back({{}, region_settings_.orientation[c]});
+    }
+    for (std::uint32_t t = 0; t < topo_.tris.size(); ++t) {
+      const std::uint32_t s = of_component[topo_.tri_component(t)];
+      if (s != kNone) surfaces[s].triangles.push_back(t);
+    }
+    const std::vector<std::vector<std::uint8_t>> flags = buried_faces(topo_, surfaces, options_.threads);
+    for (std::size_t s = 0; s < surfaces.size(); ++s)
+      for (std::size_t k = 0; k < surfaces[s].triangles.size(); ++k)
+        buried_[surfaces[s].triangles[k]] = flags[s][k];
+    return buried_;
   }
 
   // Per pair of different components that cross (lower index first): how many of their crossings
@@ -1948,6 +1977,7 @@ class Solver {
   std::vector<std::uint32_t> measured_list_;
   std::vector<Vec3> normal_;                 // between calls
   std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
+  std::vector<std::uint8_t> buried_;  // per triangle, once needed: buried_obstacle_faces
   std::vector<std::int8_t> orientation_;  // per triangle: face_orientations
   std::vector<std::uint8_t> oriented_;     // per component: orientable (face_orientations)
   // Per layered pair (lower component first): its order, decided where it is first seen.
