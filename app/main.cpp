@@ -173,6 +173,11 @@ int run_fix(const CommonOptions& o) {
                 result.displacement.moved_vertices, result.displacement.max,
                 result.displacement.max_over_mean_edge, result.displacement.mean);
     for (std::size_t k = 0; k < outputs.size(); ++k) std::printf("wrote %s\n", outputs[k].c_str());
+    if (result.obstacle_crossing_pairs > 0) {
+      std::printf("obstacles: %zu triangle pairs of closed obstacles cross (themselves or each "
+                  "other), left as they are\n",
+                  result.obstacle_crossing_pairs);
+    }
     if (!clean) {
       const std::vector<std::string> labels = labels_of(run.written);
       for (std::size_t k = 0; k < verified.contours.size(); ++k) {

@@ -673,6 +673,14 @@ TEST(SelfIntersectingObstacle, IsLeftAloneWhileTheSheetIsResolved) {
               quote(dir.file("out.obj")) + " --report " + quote(dir.file("fix.json")));
   EXPECT_EQ(r.exit_code, 0) << r.out << r.err;
   EXPECT_EQ(read_text(obstacle_path), obstacle_text);
+  // fix names the obstacle's own crossings, the triangle pairs check counts on it alone.
+  const std::size_t obstacle_pairs = find_intersections({obstacle}).counts.triangle_pairs;
+  ASSERT_GT(obstacle_pairs, 0u);
+  EXPECT_NE(r.out.find("obstacles: " + std::to_string(obstacle_pairs) + " triangle pairs"),
+            std::string::npos)
+      << r.out;
+  const auto fix_report = nlohmann::json::parse(read_text(dir.file("fix.json")));
+  EXPECT_EQ(fix_report["obstacles"]["crossing_pairs"].get<std::size_t>(), obstacle_pairs);
   ASSERT_TRUE(std::filesystem::exists(dir.file("out.obj"))) << r.err;
   std::vector<Mesh> written = read_meshes(dir.file("out.obj"), Role::kMovable);
   for (auto& m : read_meshes(obstacle_path, Role::kObstacle)) written.push_back(std::move(m));

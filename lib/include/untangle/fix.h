@@ -71,6 +71,11 @@ struct FixResult {
   DisplacementStats displacement;
   std::size_t illegal_regions_by_inside = 0;  // regions decided by a closed obstacle's inside
   std::size_t illegal_regions_by_area = 0;    // regions decided by "small is illegal"
+  // Triangle pairs of the closed obstacles that cross (an obstacle through itself, as the cow's
+  // tail through its rump, or two closed obstacle parts through each other), each pair once. They
+  // are left as they are; moves never aim at the faces there (only positions of movable meshes
+  // change). Open obstacles are not looked at here (`check` lists every crossing).
+  std::size_t obstacle_crossing_pairs = 0;
   // Time per stage, summed over iterations (milliseconds, monotonic clock). resolve_ms =
   // regions_ms + displace_ms: region analysis (flood fills, legal sides), then computing and
   // applying the moves.

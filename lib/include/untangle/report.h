@@ -36,8 +36,9 @@ struct FixTimingsMs {
 // The `fix` report: the check keys (status is clean | unresolved; `before` as detected on the
 // input, `after` and `contours` as detected on the files written), plus method, iterations,
 // stalled, outputs, history (iteration, crossings, contour_length, elapsed_ms), displacement
-// (max, mean, max_over_mean_edge, moved_vertices), regions (by_inside, by_area) and timing_ms
-// (load, detect, contours, resolve, write, verify, total).
+// (max, mean, max_over_mean_edge, moved_vertices), regions (by_inside, by_area), obstacles
+// (crossing_pairs: FixResult::obstacle_crossing_pairs) and timing_ms (load, detect, contours,
+// resolve, write, verify, total).
 std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
                             const std::vector<std::string>& outputs, const FixOptions& options,
                             const FixResult& result, const Intersections& verified,

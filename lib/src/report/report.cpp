@@ -160,6 +160,9 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   regions["by_inside"] = result.illegal_regions_by_inside;
   regions["by_area"] = result.illegal_regions_by_area;
   j["regions"] = regions;
+  Json obstacles;
+  obstacles["crossing_pairs"] = result.obstacle_crossing_pairs;
+  j["obstacles"] = obstacles;
   Json contours = Json::array();
   for (const Contour& c : verified.contours) contours.push_back(contour_json(c));
   j["contours"] = contours;

@@ -134,7 +134,8 @@ bool outer_side_inside(const SceneTopology& topology, std::uint32_t t, int orien
 
 std::vector<std::vector<std::uint8_t>> buried_faces(const SceneTopology& topology,
                                                     const std::vector<ClosedSurface>& surfaces,
-                                                    int threads) {
+                                                    int threads, std::size_t* crossing_pairs) {
+  if (crossing_pairs != nullptr) *crossing_pairs = 0;
   std::vector<std::vector<std::uint8_t>> buried;
   std::vector<std::uint32_t> all;  // every triangle of every surface, ascending
   for (const ClosedSurface& surface : surfaces) {
@@ -168,8 +169,10 @@ std::vector<std::vector<std::uint8_t>> buried_faces(const SceneTopology& topolog
   });
   std::vector<std::uint8_t> cut(n, 0);
   bool any = false;
-  for (const auto& list : found)
+  for (const auto& list : found) {
     for (std::uint32_t t : list) cut[local(t)] = 1, any = true;
+    if (crossing_pairs != nullptr) *crossing_pairs += list.size() / 2;
+  }
   // One closed surface that crosses nothing is embedded: nothing of it is inside it. Two or more
   // may still lie one inside another (an eye in a head) without crossing.
   if (!any && surfaces.size() < 2) return buried;

@@ -2,6 +2,7 @@
 // or through each other.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -34,8 +35,11 @@ struct ClosedSurface {
 // thousandth of its shortest edge outside its centroid, by the median of three signed ray counts
 // (winding numbers) against all the surfaces: doubles, used only to steer moves. The descent runs
 // on `threads` threads (0: all cores); the result does not depend on the count. Prints nothing.
+// With `crossing_pairs`, also the number of triangle pairs of the surfaces that cross (themselves
+// or each other), each pair once.
 std::vector<std::vector<std::uint8_t>> buried_faces(const SceneTopology& topology,
                                                     const std::vector<ClosedSurface>& surfaces,
-                                                    int threads);
+                                                    int threads,
+                                                    std::size_t* crossing_pairs = nullptr);
 
 }  // namespace untangle

@@ -172,6 +172,10 @@ class Solver {
   FixResult run(const FixProgress& progress) {
     FixResult result;
     const auto start = Clock::now();
+    // The closed obstacles' own crossings, reported and left alone; their buried faces are what
+    // region moves against them never aim at.
+    buried_obstacle_faces();
+    result.obstacle_crossing_pairs = obstacle_crossing_pairs_;
     std::size_t best_crossings = static_cast<std::size_t>(-1);
     double best_length = INFINITY;
     int since_best = 0;
@@ -383,7 +387,7 @@ class Solver {
 
   // Per triangle: 1 for a buried face of a closed obstacle component (buried_faces: inside an
   // obstacle, or on a curve where the closed obstacles pass through themselves or each other).
-  // Worked out once, when a closed obstacle's tree is first needed.
+  // Worked out once, at the start of the run.
   const std::vector<std::uint8_t>& buried_obstacle_faces() {
     if (!buried_.empty()) return buried_;
     buried_.assign(topo_.tris.size(), 0);
@@ -398,7 +402,8 @@ class Solver {
       const std::uint32_t s = of_component[topo_.tri_component(t)];
       if (s != kNone) surfaces[s].triangles.push_back(t);
     }
-    const std::vector<std::vector<std::uint8_t>> flags = buried_faces(topo_, surfaces, options_.threads);
+    const std::vector<std::vector<std::uint8_t>> flags =
+        buried_faces(topo_, surfaces, options_.threads, &obstacle_crossing_pairs_);
     for (std::size_t s = 0; s < surfaces.size(); ++s)
       for (std::size_t k = 0; k < surfaces[s].triangles.size(); ++k)
         buried_[surfaces[s].triangles[k]] = flags[s][k];
@@ -1977,7 +1982,8 @@ class Solver {
   std::vector<std::uint32_t> measured_list_;
   std::vector<Vec3> normal_;                 // between calls
   std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
-  std::vector<std::uint8_t> buried_;  // per triangle, once needed: buried_obstacle_faces
+  std::vector<std::uint8_t> buried_;  // per triangle: buried_obstacle_faces
+  std::size_t obstacle_crossing_pairs_ = 0;
   std::vector<std::int8_t> orientation_;  // per triangle: face_orientations
   std::vector<std::uint8_t> oriented_;     // per component: orientable (face_orientations)
   // Per layered pair (lower component first): its order, decided where it is first seen.
