@@ -39,7 +39,8 @@ struct FixOptions {
   // false, "the smaller region is illegal" everywhere (the paper's orientation-free rule).
   bool outside_closed_obstacles = true;
   // Stop as stalled when neither the crossing count nor the contour length improved for this many
-  // iterations (with a self contour left, after a second stage from the input: see fix_meshes).
+  // iterations (method region: after a second stage from the input and a third from the best
+  // state: see fix_meshes).
   int stall_iterations = 12;
   int threads = 0;
 };
@@ -50,7 +51,8 @@ struct IterationRecord {
   std::size_t crossings = 0;
   double contour_length = 0.0;
   double elapsed_ms = 0.0;  // since the start of fix_meshes
-  int stage = 1;            // 2 in the second stage, which starts again from the input
+  int stage = 1;  // 2 in the second stage, which starts again from the input; 3 in the third,
+                  // which starts from the best state of the first two
 };
 
 struct DisplacementStats {
