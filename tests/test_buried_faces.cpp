@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cstddef>
+#include <random>
 #include <vector>
 
 #include "cgal_reference.h"
@@ -18,6 +19,8 @@
 #include "scenes/scenes.h"
 #include "scenes/self_scenes.h"
 #include "topology/scene_topology.h"
+#include "untangle/fix.h"
+#include "untangle/intersections.h"
 
 namespace untangle {
 namespace {
@@ -143,6 +146,49 @@ TEST(BuriedFaces, TheCowsTailThroughItsRump) {
       EXPECT_LT(topo.points[v][0], -0.3) << "buried face " << k << " far from the tail";
   }
   EXPECT_EQ(buried_faces(topo, surfaces, 1), buried);
+}
+
+// Ten crumpled closed spheres (every vertex moved by up to 0.3 of the radius: they pass through
+// themselves in many places) as obstacles, a sheet through each. The pass that finds the buried
+// faces also counts the obstacle's crossing triangle pairs: that count must equal detection's
+// on the obstacle alone, exactly. The repair (a few iterations: the pass is under test, not the
+// repair) never moves the obstacle, gives the same positions at one and two threads, and writes a
+// state with no more crossings than the input.
+TEST(BuriedFaces, CrumpledSpheresAsObstacles) {
+  std::mt19937_64 random(20261201);
+  auto uniform = [&](double lo, double hi) {
+    return lo + (hi - lo) * static_cast<double>(random() >> 11) * 0x1.0p-53;
+  };
+  std::size_t crossing_obstacles = 0;
+  for (int k = 0; k < 10; ++k) {
+    SCOPED_TRACE("crumpled sphere " + std::to_string(k));
+    Mesh sphere = scenes::uv_sphere({0.0, 0.0, 0.0}, 1.0, 10 + k % 7, 6 + k % 5, "crumpled");
+    for (Vec3& p : sphere.positions)
+      for (double& c : p) c += uniform(-0.3, 0.3);
+    sphere.role = Role::kObstacle;
+    const Mesh sheet = scenes::grid_sheet(17, 17, {-1.6, -1.6, uniform(-0.3, 0.3)}, {3.2, 0.0, 0.0},
+                                          {0.0, 3.2, 0.0}, "sheet");
+    const std::size_t pairs = find_intersections({sphere}).counts.triangle_pairs;
+    const std::vector<Mesh> input{sheet, sphere};
+    std::vector<std::vector<Mesh>> results;
+    for (int threads : {1, 2}) {
+      std::vector<Mesh> meshes = input;
+      FixOptions options;
+      options.threads = threads;
+      options.max_iterations = 6;  // the property, not the repair, is under test
+      const FixResult result = fix_meshes(meshes, options);
+      EXPECT_EQ(meshes[1].positions, sphere.positions) << "the obstacle moved";
+      if (closed_orientations(build_topology({sphere}))[0] != 0)
+        EXPECT_EQ(result.obstacle_crossing_pairs, pairs);
+      else
+        EXPECT_EQ(result.obstacle_crossing_pairs, 0u) << "not closed and oriented: not looked at";
+      EXPECT_LE(result.after.crossings, result.before.crossings) << "the best state is written";
+      if (threads == 1) crossing_obstacles += pairs > 0 ? 1 : 0;
+      results.push_back(meshes);
+    }
+    EXPECT_EQ(results[0][0].positions, results[1][0].positions) << "depends on the thread count";
+  }
+  EXPECT_GE(crossing_obstacles, 5u) << "the spheres were meant to pass through themselves";
 }
 
 }  // namespace
