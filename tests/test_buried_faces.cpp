@@ -21,6 +21,7 @@
 #include "topology/scene_topology.h"
 #include "untangle/fix.h"
 #include "untangle/intersections.h"
+#include "untangle/mesh_info.h"
 
 namespace untangle {
 namespace {
@@ -149,11 +150,11 @@ TEST(BuriedFaces, TheCowsTailThroughItsRump) {
 }
 
 // Ten crumpled closed spheres (every vertex moved by up to 0.3 of the radius: they pass through
-// themselves in many places) as obstacles, a sheet through each. The pass that finds the buried
-// faces also counts the obstacle's crossing triangle pairs: that count must equal detection's
-// on the obstacle alone, exactly. The repair (a few iterations: the pass is under test, not the
-// repair) never moves the obstacle, gives the same positions at one and two threads, and writes a
-// state with no more crossings than the input.
+// themselves in many places; every other one with a zero-area triangle) as obstacles, a sheet
+// through each. The pass that finds the buried faces also counts the obstacle's crossing triangle
+// pairs: that count must equal detection's on the obstacle alone, exactly. The repair (a few
+// iterations: the pass is under test, not the repair) never moves the obstacle, gives the same
+// positions at one and two threads, and writes a state with no more crossings than the input.
 TEST(BuriedFaces, CrumpledSpheresAsObstacles) {
   std::mt19937_64 random(20261201);
   auto uniform = [&](double lo, double hi) {
@@ -165,6 +166,14 @@ TEST(BuriedFaces, CrumpledSpheresAsObstacles) {
     Mesh sphere = scenes::uv_sphere({0.0, 0.0, 0.0}, 1.0, 10 + k % 7, 6 + k % 5, "crumpled");
     for (Vec3& p : sphere.positions)
       for (double& c : p) c += uniform(-0.3, 0.3);
+    if (k % 2 == 1) {
+      // A zero-area triangle (collinear corners, still three positions): legal input, and the
+      // rays of the winding numbers meet it.
+      const Triangle t = sphere.triangles[sphere.triangles.size() / 2];
+      for (int i = 0; i < 3; ++i)
+        sphere.positions[t[2]][i] = 0.5 * (sphere.positions[t[0]][i] + sphere.positions[t[1]][i]);
+      ASSERT_GE(describe_mesh(sphere).zero_area_triangles, 1u);
+    }
     sphere.role = Role::kObstacle;
     const Mesh sheet = scenes::grid_sheet(17, 17, {-1.6, -1.6, uniform(-0.3, 0.3)}, {3.2, 0.0, 0.0},
                                           {0.0, 3.2, 0.0}, "sheet");
