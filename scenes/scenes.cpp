@@ -414,9 +414,10 @@ Scene sheet_on_spikes() {
 }
 
 // Yields 4 contours: BB (panel) / II (body), one across each corner.
-// A square panel (side 1.8) at height 0.0137 through a closed sphere of radius 1: the middle of the
-// panel, most of its area, is inside the body; only its four corners stick out. "The smaller
+// A square panel at height 0.0137 through a closed sphere of radius 1. At side 1.8 the middle of
+// the panel, most of its area, is inside the body; only its four corners stick out. "The smaller
 // region is illegal" would push the corners in; the body's inside says the middle is illegal.
+// Vertices about 0.05 apart at every side (37 x 37 at 1.8, as before the side was a parameter).
 Scene panel_in_body(double side) {
   Scene scene;
   scene.name = "panel_in_body";

@@ -1979,7 +1979,7 @@ class Solver {
   std::size_t relax_budget_ = 0;  // the part of it relaxations may still spend
   bool wide_tried_ = false;       // a wide patch was built in this step
   bool pieces_ = false;           // the second stage (escalate): track pieces are candidates
-  int stage_ = 1;
+  int stage_ = 1;                 // 1, 2 or 3: the stage running (escalate)
   std::unique_ptr<Moves> crossing_scratch_;  // measured_crossing_move's, all zero between calls
   std::vector<std::uint8_t> member_, seen_;  // part_moves' scratch, per welded vertex, all zero
   std::vector<std::uint8_t> measured_;       // per welded vertex: taken by a measured move this step
