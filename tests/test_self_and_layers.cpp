@@ -508,6 +508,51 @@ TEST(LayerInterleaved, EveryPairEndsCleanAndTheMajorityOrderHoldsEverywhere) {
   EXPECT_LE(fixed.result.iterations, 2);
 }
 
+// Which layer is outer does not depend on the order they are listed in, nor on where a garment is
+// finer. The dress is outside the t-shirt above z = -0.2 (three fifths of the overlap) and inside
+// below; the t-shirt's rings crowd into its lower part, so that most t-shirt vertices near the
+// dress lie outside it while most dress vertices lie outside the t-shirt: by vertex counts each
+// looks outer from the other's faces. By area the dress is outer. Listed dress first, the choice
+// made from one view only moved the t-shirt out over the dress; now either order lays the dress
+// over the t-shirt, which keeps every vertex.
+TEST(LayerInterleaved, OuterLayerByAreaWhicheverIsListedFirst) {
+  scenes::Scene scene = scenes::interleaved_layers(48, 25);
+  for (Vec3& p : scene.movable[0].positions) {  // the dress
+    const double phi = std::atan2(p[1], p[0]);
+    const double rho = 0.9 + 0.006 * std::tanh((p[2] + 0.2) / 0.15);
+    p[0] = rho * std::cos(phi);
+    p[1] = rho * std::sin(phi);
+  }
+  for (Vec3& p : scene.movable[1].positions) {  // the t-shirt, z in [-1, 1]
+    const double u = 0.5 * (p[2] + 1.0);
+    p[2] = 2.0 * u * u - 1.0;
+  }
+  for (bool dress_first : {true, false}) {
+    SCOPED_TRACE(dress_first ? "dress listed first" : "t-shirt listed first");
+    scenes::Scene listed = scene;
+    if (!dress_first) std::swap(listed.movable[0], listed.movable[1]);
+    std::vector<Mesh> meshes = scenes::scene_meshes(listed);
+    const std::size_t dress = dress_first ? 0 : 1, tshirt = 1 - dress;
+    Intersections found;
+    ASSERT_NO_FATAL_FAILURE(detect_layers(meshes, found));
+    const std::vector<Mesh> input = meshes;
+    const Fixed fixed = fix_and_redetect(meshes);
+    expect_clean(fixed);
+    EXPECT_EQ(meshes[tshirt].positions, input[tshirt].positions) << "the t-shirt moved";
+    // Every dress vertex over the t-shirt ends outside it.
+    std::size_t over = 0, inside_after = 0;
+    for (const Vec3& p : meshes[dress].positions) {
+      const double rho = std::hypot(p[0], p[1]);
+      const double is = outermost_hit(meshes[tshirt], p[2], p[0] / rho, p[1] / rho);
+      if (is < 0.0) continue;
+      ++over;
+      if (rho < is) ++inside_after;
+    }
+    EXPECT_GT(over, meshes[dress].positions.size() / 2);
+    EXPECT_EQ(inside_after, 0u) << inside_after << " of " << over << " dress vertices end inside";
+  }
+}
+
 // Layers can cross where no vertex rule sees it: here single t-shirt vertices stand 0.08 out
 // (more than half the t-shirt's edge, out of the inner-vertex rule's reach) through dress faces.
 // Without moves by the crossings themselves (an inner edge through an outer face pushes that face

@@ -490,6 +490,27 @@ class Solver {
     double side;
   };
 
+  // The vote of near vertices' sides weighted by their areas (a third of their faces'), over
+  // their total area: from -1 (all on the negative side) to 1. A garment finer in one place than
+  // another still votes by how much of it lies on each side.
+  double area_vote(const std::vector<NearPoint>& near) const {
+    double sum = 0.0, total = 0.0;
+    for (const NearPoint& x : near) {
+      double area = 0.0;  // twice the vertex area: each face is met through both its edges at v
+      for (std::uint32_t j = topo_.vertex_edge_begin[x.v]; j < topo_.vertex_edge_begin[x.v + 1]; ++j) {
+        const std::uint32_t e = topo_.vertex_edges[j];
+        for (std::uint32_t k = topo_.edge_face_begin[e]; k < topo_.edge_face_begin[e + 1]; ++k) {
+          const auto& tri = topo_.tris[topo_.edge_faces[k]];
+          area += norm(cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
+                             sub(topo_.points[tri[2]], topo_.points[tri[0]])));
+        }
+      }
+      sum += x.side > 0 ? area : x.side < 0 ? -area : 0.0;
+      total += area;
+    }
+    return total > 0.0 ? sum / total : 0.0;
+  }
+
   // The vertices of `component` within `near` of `tree`, and the vote of their sides (+1 for each
   // on the positive side of the closest face, -1 for each on the negative side).
   std::vector<NearPoint> near_points(std::uint32_t component, const MeshTree& tree, double near,
@@ -582,25 +603,42 @@ class Solver {
     long long vote_a = 0, vote_b = 0;
     const std::vector<NearPoint> a_near = near_points(a, tree_b, near_a, vote_a);
     const std::vector<NearPoint> b_near = near_points(b, tree_a, near_b, vote_b);
-    // The order kept is the one most near vertices have: b lies on side `vote_b` of a. Around a
-    // closed obstacle (a body) the outer layer moves and the inner one stays against the body:
-    // a's faces near b face away from the body (their normals point away from its nearest point)
-    // mostly on side `outward`, and b is outer when it lies on that side. Without an obstacle the
-    // component with the higher index moves.
-    long long outward = 0;
-    for (const NearPoint& x : b_near) {
-      Vec3 body{};
-      if (!nearest_obstacle_point(x.c, body)) break;
-      const double away = dot(x.n, sub(x.c, body));
-      outward += away > 0 ? 1 : away < 0 ? -1 : 0;
-    }
-    const double b_side = vote_b < 0 ? -1.0 : 1.0;
-    const bool a_moves = outward != 0 && (outward > 0 ? 1.0 : -1.0) != b_side;
+    // Around a closed obstacle (a body) the outer layer moves and the inner one stays against the
+    // body. Each component's faces near the other face away from the body (their normals point
+    // away from its nearest point) mostly on one side, `outward`; the other lies on that side by
+    // a margin (its area vote, turned by that sign). Interleaved layers lie on
+    // both sides of each other, and from each one's faces the other can look outer (a dress and
+    // a t-shirt made at one offset: 746 of 1,240 dress vertices outside the t-shirt's faces, 690
+    // of 1,276 t-shirt vertices outside the dress's), so both views are weighed and the one with
+    // the larger margin is outer, whichever comes first. The mover is laid on the inner one's
+    // outer side. Without an obstacle the component with the higher index moves, to the side
+    // most of its near vertices lie on.
+    auto outward_of = [&](const std::vector<NearPoint>& near) {
+      long long outward = 0;
+      for (const NearPoint& x : near) {
+        Vec3 body{};
+        if (!nearest_obstacle_point(x.c, body)) break;
+        const double away = dot(x.n, sub(x.c, body));
+        outward += away > 0 ? 1 : away < 0 ? -1 : 0;
+      }
+      return outward > 0 ? 1 : outward < 0 ? -1 : 0;
+    };
+    const int out_a = outward_of(b_near);  // a's faces, seen from b's near vertices
+    const int out_b = outward_of(a_near);
     LayerOrder order;
+    bool a_moves = false;
+    if (out_a != 0 && out_b != 0) {
+      const double b_outer = area_vote(b_near) * out_a;
+      const double a_outer = area_vote(a_near) * out_b;
+      a_moves = a_outer > b_outer;
+      order.side = a_moves ? out_b : out_a;
+    } else {
+      // One view only: b is outer when it lies on a's outer side.
+      a_moves = out_a != 0 && out_a != (vote_b < 0 ? -1 : 1);
+      // An exact copy has no majority and goes to the positive side.
+      order.side = (a_moves ? vote_a : vote_b) < 0 ? -1.0 : 1.0;
+    }
     order.mover = a_moves ? a : b;
-    const long long vote = a_moves ? vote_a : vote_b;
-    // An exact copy has no majority and goes to the positive side.
-    order.side = vote < 0 ? -1.0 : 1.0;
     long long aligned = 0;
     for (const NearPoint& x : a_moves ? a_near : b_near) {
       const double c = dot(oriented_vertex_normal(x.v), x.n);
