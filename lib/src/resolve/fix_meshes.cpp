@@ -167,14 +167,12 @@ class Solver {
     trial_ = std::make_unique<TrialMove>(topo_);
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, settings_.skip_among);
     settings_.skipped_bvh = obstacle_bvh_.get();
+    find_buried_obstacle_faces();
   }
 
   FixResult run(const FixProgress& progress) {
     FixResult result;
     const auto start = Clock::now();
-    // The closed obstacles' own crossings, reported and left alone; their buried faces are what
-    // region moves against them never aim at.
-    buried_obstacle_faces();
     result.obstacle_crossing_pairs = obstacle_crossing_pairs_;
     std::size_t best_crossings = static_cast<std::size_t>(-1);
     double best_length = INFINITY;
@@ -274,9 +272,12 @@ class Solver {
   // of the two: from the input the measured moves work on the whole tangle, from the best state
   // on what the first two left (random tangles, seeds 0 to 399: 277 -> 288 clean). Only the best
   // state is ever written, so the later stages can cost time but never leave more crossings.
+  // The second and third stages: track pieces are candidates, and only measured moves act where
+  // both sides of a contour move.
+  bool pieces() const { return stage_ >= 2; }
+
   bool escalate(std::unique_ptr<SceneHierarchy>& hierarchy, int& since_best) {
     if (stage_ >= 3 || best_points_.empty() || options_.method != FixMethod::kRegion) return false;
-    pieces_ = true;
     ++stage_;
     topo_.points = stage_ == 2 ? start_points_ : best_points_;
     hierarchy.reset();  // positions jumped: the next detection is a full one
@@ -356,7 +357,7 @@ class Solver {
       // The second stage makes only measured moves where both sides move (a self contour, two
       // movable components): on a finely subdivided fold the per-crossing rule's shear is what
       // tangles it further. Against an obstacle the per-crossing rule acts.
-      if (pieces_ && !touches_obstacle(set, c)) measured_crossing_move(set, t, analysis, in_moving_set, moves);
+      if (pieces() && !touches_obstacle(set, c)) measured_crossing_move(set, t, analysis, in_moving_set, moves);
       else crossing_moves(set, t, analysis, moves);
     }
 
@@ -377,10 +378,9 @@ class Solver {
       for (std::uint32_t t = topo_.mesh_tri_begin[m]; t < topo_.mesh_tri_begin[m + 1]; ++t)
         if (topo_.tri_component(t) == component) tris.push_back(t);
       if (fixed && region_settings_.orientation[component] != 0) {
-        const std::vector<std::uint8_t>& buried = buried_obstacle_faces();
         std::vector<std::uint32_t> exposed;
         for (std::uint32_t t : tris)
-          if (!buried[t]) exposed.push_back(t);
+          if (!buried_[t]) exposed.push_back(t);
         if (!exposed.empty()) tris = std::move(exposed);
       }
       tree = build_tree(topo_, tris);
@@ -388,11 +388,11 @@ class Solver {
     return *tree;
   }
 
-  // Per triangle: 1 for a buried face of a closed obstacle component (buried_faces: inside an
-  // obstacle, or on a curve where the closed obstacles pass through themselves or each other).
-  // Worked out once, at the start of the run.
-  const std::vector<std::uint8_t>& buried_obstacle_faces() {
-    if (!buried_.empty()) return buried_;
+  // buried_ and obstacle_crossing_pairs_, once (constructor): per triangle, 1 for a buried face of
+  // a closed obstacle component (buried_faces: inside an obstacle, or on a curve where the closed
+  // obstacles pass through themselves or each other), and how many triangle pairs of theirs cross.
+  // Those crossings are reported and left alone; region moves never aim at the buried faces.
+  void find_buried_obstacle_faces() {
     buried_.assign(topo_.tris.size(), 0);
     std::vector<ClosedSurface> surfaces;
     std::vector<std::uint32_t> of_component(topo_.component_mesh.size(), kNone);
@@ -410,7 +410,6 @@ class Solver {
     for (std::size_t s = 0; s < surfaces.size(); ++s)
       for (std::size_t k = 0; k < surfaces[s].triangles.size(); ++k)
         buried_[surfaces[s].triangles[k]] = flags[s][k];
-    return buried_;
   }
 
   // Per pair of different components that cross (lower index first): how many of their crossings
@@ -1028,7 +1027,7 @@ class Solver {
       for (std::uint32_t v : side) area += vertex_edge_[v] * vertex_edge_[v];
       sides.push_back({k, std::move(side), area, nullptr, nullptr});
     }
-    if (pieces_) {
+    if (pieces()) {
       // The second stage: each track's own pieces, as further sides.
       const std::size_t limit = std::min(kMeasuredVertices, component_size_[component] / 2);
       for (int k = 0; k < 2; ++k)
@@ -1341,7 +1340,7 @@ class Solver {
         // A part mirrored through a flat partner may land in the plane of its own mesh (a flat
         // strip folded onto itself): the clearance along its own normal keeps the fold open.
         mirror[i] = add(add(scale(to, 2.0), scale(dir, clearance)), scale(nv, clearance));
-        if (pieces_) {
+        if (pieces()) {
           // Reflected across the plane of the closest face: the same as mirrored where the
           // closest point lies inside the face; beyond the partner's edge the part turns round
           // the edge instead of onto it.
@@ -1452,7 +1451,7 @@ class Solver {
     // a flap's triangles): self_contour_move finds no side there. The second stage gives such a
     // contour a flap too.
     auto separates_vertices = [&](const Track& track) {
-      return track.separates && (!pieces_ || track.cut_edges > 0);
+      return track.separates && (!pieces() || track.cut_edges > 0);
     };
     if (self) {
       if (separates_vertices(c.tracks[0]) || separates_vertices(c.tracks[1])) return;  // self_contour_move's case
@@ -1535,7 +1534,7 @@ class Solver {
           // In the second stage a vertex beyond the other surface's edge keeps the side of the
           // closest face's plane: the part of a flap that dives beyond a base's edge moves with the
           // flap, instead of holding its triangles through the edge (reflected across that plane).
-          for (int e = 0; e < 3 && result != 0 && !pieces_; ++e) {
+          for (int e = 0; e < 3 && result != 0 && !pieces(); ++e) {
             // Closest point on edge (f[e], f[e+1]) of the other surface's boundary: not over it.
             const Vec3& a = topo_.points[f[e]];
             const Vec3& b = topo_.points[f[(e + 1) % 3]];
@@ -2016,15 +2015,14 @@ class Solver {
   std::size_t trial_budget_ = 0;  // triangles measured moves may still touch in this step
   std::size_t relax_budget_ = 0;  // the part of it relaxations may still spend
   bool wide_tried_ = false;       // a wide patch was built in this step
-  bool pieces_ = false;           // the second stage (escalate): track pieces are candidates
-  int stage_ = 1;                 // 1, 2 or 3: the stage running (escalate)
+  int stage_ = 1;  // 1, 2 or 3: the stage running (escalate)
   std::unique_ptr<Moves> crossing_scratch_;  // measured_crossing_move's, all zero between calls
   std::vector<std::uint8_t> member_, seen_;  // part_moves' scratch, per welded vertex, all zero
   std::vector<std::uint8_t> measured_;       // per welded vertex: taken by a measured move this step
   std::vector<std::uint32_t> measured_list_;
   std::vector<Vec3> normal_;                 // between calls
   std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
-  std::vector<std::uint8_t> buried_;  // per triangle: buried_obstacle_faces
+  std::vector<std::uint8_t> buried_;  // per triangle: find_buried_obstacle_faces
   std::size_t obstacle_crossing_pairs_ = 0;
   std::vector<std::int8_t> orientation_;  // per triangle: face_orientations
   std::vector<std::uint8_t> oriented_;     // per component: orientable (face_orientations)
