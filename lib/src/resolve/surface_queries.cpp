@@ -1,0 +1,145 @@
+// Closest-point trees, near points and oriented normals for the move kinds.
+#include "resolve/surface_queries.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/vec3.h"
+
+namespace untangle {
+
+std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
+                                     const std::vector<std::uint32_t>& tris) {
+  auto out = std::make_unique<MeshTree>();
+  for (std::uint32_t t : tris) {
+    const auto& tri = topo.tris[t];
+    auto p = [&](int k) {
+      const Vec3& v = topo.points[tri[k]];
+      return TreeKernel::Point_3(v[0], v[1], v[2]);
+    };
+    out->triangles.emplace_back(p(0), p(1), p(2));
+    out->ids.push_back(t);
+  }
+  if (out->triangles.empty()) return out;
+  out->tree.insert(out->triangles.begin(), out->triangles.end());
+  out->tree.accelerate_distance_queries();
+  return out;
+}
+
+Vec3 face_normal(const SceneTopology& topo, std::uint32_t t) {
+  const auto& tri = topo.tris[t];
+  return unit(cross(sub(topo.points[tri[1]], topo.points[tri[0]]),
+                    sub(topo.points[tri[2]], topo.points[tri[0]])));
+}
+
+Vec3 oriented_normal(const SceneTopology& topo, const SceneMeasures& measures, std::uint32_t t) {
+  return scale(face_normal(topo, t), measures.orientation[t] < 0 ? -1.0 : 1.0);
+}
+
+Vec3 oriented_vertex_normal(const SceneTopology& topo, const SceneMeasures& measures,
+                            std::uint32_t v) {
+  Vec3 sum{0.0, 0.0, 0.0};
+  for (std::uint32_t j = topo.vertex_edge_begin[v]; j < topo.vertex_edge_begin[v + 1]; ++j) {
+    const std::uint32_t e = topo.vertex_edges[j];
+    for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
+      const std::uint32_t t = topo.edge_faces[k];
+      const auto& tri = topo.tris[t];
+      const Vec3 area = cross(sub(topo.points[tri[1]], topo.points[tri[0]]),
+                              sub(topo.points[tri[2]], topo.points[tri[0]]));
+      // Each face is met through both its edges at v: twice, which the unit() below forgives.
+      sum = add(sum, scale(area, measures.orientation[t] < 0 ? -1.0 : 1.0));
+    }
+  }
+  return unit(sum);
+}
+
+bool on_hem(const SceneTopology& topo, std::uint32_t t, const Vec3& c) {
+  for (std::uint32_t e : topo.tri_edges[t]) {
+    if (!topo.is_boundary(e)) continue;
+    const Vec3& a = topo.points[topo.edges[e][0]];
+    const Vec3 ab = sub(topo.points[topo.edges[e][1]], a);
+    const double len2 = dot(ab, ab);
+    const double u = len2 > 0.0 ? std::clamp(dot(sub(c, a), ab) / len2, 0.0, 1.0) : 0.0;
+    if (norm(sub(c, add(a, scale(ab, u)))) <= 1e-9 * std::sqrt(len2)) return true;
+  }
+  return false;
+}
+
+const MeshTree& SurfaceTrees::component_tree(std::uint32_t component, FreshTrees& fresh) {
+  const std::uint32_t m = topo_.component_mesh[component];
+  const bool fixed = measures_.role[m] == Role::kObstacle;
+  std::unique_ptr<MeshTree>& tree = fixed ? obstacle_trees_[component] : fresh[component];
+  if (!tree) {
+    std::vector<std::uint32_t> tris;
+    for (std::uint32_t t = topo_.mesh_tri_begin[m]; t < topo_.mesh_tri_begin[m + 1]; ++t)
+      if (topo_.tri_component(t) == component) tris.push_back(t);
+    if (fixed && measures_.closed[component] != 0) {
+      std::vector<std::uint32_t> exposed;
+      for (std::uint32_t t : tris)
+        if (!measures_.buried[t]) exposed.push_back(t);
+      if (!exposed.empty()) tris = std::move(exposed);
+    }
+    tree = build_tree(topo_, tris);
+  }
+  return *tree;
+}
+
+bool SurfaceTrees::nearest_obstacle_point(const Vec3& p, Vec3& out) {
+  double best = INFINITY;
+  FreshTrees unused;  // obstacles' trees are kept
+  for (std::uint32_t c = 0; c < topo_.component_mesh.size(); ++c) {
+    if (measures_.movable_component(topo_, c) || measures_.closed[c] == 0) continue;
+    const MeshTree& tree = component_tree(c, unused);
+    if (tree.triangles.empty()) continue;
+    const auto q = tree.tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
+    const Vec3 point{q.x(), q.y(), q.z()};
+    const double d = norm(sub(p, point));
+    if (d < best) {
+      best = d;
+      out = point;
+    }
+  }
+  return std::isfinite(best);
+}
+
+std::vector<NearPoint> near_points(const SceneTopology& topo, const SceneMeasures& measures,
+                                   std::uint32_t component, const MeshTree& tree, double near,
+                                   long long& vote) {
+  std::vector<NearPoint> out;
+  vote = 0;
+  const std::uint32_t mesh = topo.component_mesh[component];
+  for (std::uint32_t v = topo.mesh_vertex_begin[mesh]; v < topo.mesh_vertex_begin[mesh + 1]; ++v) {
+    if (topo.vertex_component[v] != component) continue;
+    const Vec3& p = topo.points[v];
+    const auto hit = tree.tree.closest_point_and_primitive(TreeKernel::Point_3(p[0], p[1], p[2]));
+    const Vec3 c{hit.first.x(), hit.first.y(), hit.first.z()};
+    if (norm(sub(p, c)) > near) continue;
+    const std::uint32_t face =
+        tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
+    const Vec3 n = oriented_normal(topo, measures, face);
+    const double side = dot(sub(p, c), n);
+    vote += side > 0 ? 1 : side < 0 ? -1 : 0;
+    out.push_back({v, face, c, n, side});
+  }
+  return out;
+}
+
+double area_vote(const SceneTopology& topo, const std::vector<NearPoint>& near) {
+  double sum = 0.0, total = 0.0;
+  for (const NearPoint& x : near) {
+    double area = 0.0;  // twice the vertex area: each face is met through both its edges at v
+    for (std::uint32_t j = topo.vertex_edge_begin[x.v]; j < topo.vertex_edge_begin[x.v + 1]; ++j) {
+      const std::uint32_t e = topo.vertex_edges[j];
+      for (std::uint32_t k = topo.edge_face_begin[e]; k < topo.edge_face_begin[e + 1]; ++k) {
+        const auto& tri = topo.tris[topo.edge_faces[k]];
+        area += norm(cross(sub(topo.points[tri[1]], topo.points[tri[0]]),
+                           sub(topo.points[tri[2]], topo.points[tri[0]])));
+      }
+    }
+    sum += x.side > 0 ? area : x.side < 0 ? -area : 0.0;
+    total += area;
+  }
+  return total > 0.0 ? sum / total : 0.0;
+}
+
+}  // namespace untangle

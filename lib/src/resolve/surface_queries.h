@@ -1,0 +1,78 @@
+// Queries against "the other surface" of a move: closest-point and ray trees per component,
+// vertices near a surface and their sides, oriented face and vertex normals.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "resolve/scene_measures.h"
+#include "resolve/triangle_tree.h"
+#include "topology/scene_topology.h"
+
+namespace untangle {
+
+// The closest-point structure of some triangles at the positions it was built at.
+struct MeshTree {
+  TreeTriangleList triangles;
+  std::vector<std::uint32_t> ids;  // global triangle id per entry
+  TriangleTree tree;
+};
+
+// Trees of movable components, built for one step (their positions change between steps).
+using FreshTrees = std::map<std::uint32_t, std::unique_ptr<MeshTree>>;
+
+// A tree over triangles `tris` (global ids) at the topology's current positions.
+std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
+                                     const std::vector<std::uint32_t>& tris);
+
+// The unit normal of triangle t by its winding.
+Vec3 face_normal(const SceneTopology& topo, std::uint32_t t);
+// The unit normal of triangle t turned by its orientation sign (face_orientations).
+Vec3 oriented_normal(const SceneTopology& topo, const SceneMeasures& measures, std::uint32_t t);
+// The normal of vertex v: the sum of its faces' area vectors, each turned by its orientation sign.
+Vec3 oriented_vertex_normal(const SceneTopology& topo, const SceneMeasures& measures,
+                            std::uint32_t v);
+// Whether point `c` on triangle t lies on one of its boundary edges (the mesh's hem).
+bool on_hem(const SceneTopology& topo, std::uint32_t t, const Vec3& c);
+
+// The closest-point trees of whole components.
+class SurfaceTrees {
+ public:
+  SurfaceTrees(const SceneTopology& topo, const SceneMeasures& measures)
+      : topo_(topo), measures_(measures) {}
+  // The tree of a whole component: kept for the run when the component is an obstacle (it never
+  // moves), built into `fresh` for this step otherwise. A closed obstacle that passes through
+  // itself (the cow's tail through its rump) leaves out its buried faces: a point on one, or a
+  // ray's exit through one, is still inside the obstacle.
+  const MeshTree& component_tree(std::uint32_t component, FreshTrees& fresh);
+  // The point of the nearest closed obstacle component to `p`, if the scene has one.
+  bool nearest_obstacle_point(const Vec3& p, Vec3& out);
+
+ private:
+  const SceneTopology& topo_;
+  const SceneMeasures& measures_;
+  std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
+};
+
+// A vertex of one component near another: its closest point there, that face's oriented normal,
+// the signed distance along it.
+struct NearPoint {
+  std::uint32_t v;
+  std::uint32_t face;
+  Vec3 c, n;
+  double side;
+};
+
+// The vertices of `component` within `near` of `tree`, and the vote of their sides (+1 for each
+// on the positive side of the closest face, -1 for each on the negative side).
+std::vector<NearPoint> near_points(const SceneTopology& topo, const SceneMeasures& measures,
+                                   std::uint32_t component, const MeshTree& tree, double near,
+                                   long long& vote);
+// The vote of near vertices' sides weighted by their areas (a third of their faces'), over their
+// total area: from -1 (all on the negative side) to 1. A garment finer in one place than another
+// still votes by how much of it lies on each side.
+double area_vote(const SceneTopology& topo, const std::vector<NearPoint>& near);
+
+}  // namespace untangle
