@@ -141,7 +141,6 @@ std::string describe(const FixResult& r) {
       s << " " << r.history[i].crossings;
     }
   }
-  if (!r.remaining.contours.empty()) s << "; remaining contours:" << contour_summary(r.remaining);
   return s.str();
 }
 

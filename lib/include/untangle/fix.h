@@ -14,10 +14,11 @@ namespace untangle {
 
 enum class FixMethod {
   // Default. Every vertex of an illegal region moves across the other surface (to its closest
-  // point there, plus the clearance); contours that enclose no vertex, BI/BI and non-separating
-  // tracks get the per-crossing rule below.
+  // point there, plus the clearance); self contours, flaps, layers and folds get their own moves
+  // (docs/DESIGN.md), and contours that enclose no vertex get the DRN below.
   kRegion,
-  // The paper's Eq. 1 on crossing edges only: d = n_r + lambda (r1 + r2), e gets +d, f gets -d,
+  // The paper's dynamic repulsive normal (DRN, Eq. 1) on crossing edges only:
+  // d = n_r + lambda (r1 + r2), e gets +d, f gets -d,
   // split by mass; BI/BI and non-separating tracks get d = r1, toward the other mesh's boundary.
   kPaper,
 };
@@ -67,8 +68,9 @@ struct FixResult {
   bool stalled = false;
   int iterations = 0;
   IntersectionCounts before;
+  // The state left in the meshes, as the repair's own last detection counted it (the CLI decides
+  // success by detecting the written files again: rounding on the way out can change it).
   IntersectionCounts after;
-  Intersections remaining;  // what is left (empty when clean)
   std::vector<IterationRecord> history;
   DisplacementStats displacement;
   std::size_t illegal_regions_by_inside = 0;  // regions decided by a closed obstacle's inside

@@ -1,0 +1,311 @@
+// The stage loop of the repair (run_repair) and the dispatch of one step to the move kinds.
+//
+// Stages: a run starts in stage 1 from the input. When it stalls with crossings left (method
+// region), stage 2 starts again from the input with each track's own pieces as further candidate
+// sides of self contours, flaps beyond the other surface's edge, and only measured moves on
+// contours whose two sides both move. When that stalls too, stage 3 runs the same rules from the
+// best state of the two: from the input the measured moves work on the whole tangle, from the best
+// state on what the first two left. Only the best state is ever written, so the later stages can
+// cost time but never leave more crossings.
+#include "resolve/repair_loop.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "check/summarize.h"
+#include "contour/build_contours.h"
+#include "detect/detect_crossings.h"
+#include "detect/triangle_bvh.h"
+#include "resolve/measured_move.h"
+#include "resolve/move_kinds.h"
+#include "resolve/region_analysis.h"
+#include "resolve/scene_measures.h"
+#include "resolve/surface_queries.h"
+#include "topology/scene_topology.h"
+
+namespace untangle {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms(Clock::time_point a, Clock::time_point b) {
+  return std::chrono::duration<double, std::milli>(b - a).count();
+}
+
+// Whether one side of a contour is an obstacle (its crossings all join the same two components).
+bool touches_obstacle(const SceneTopology& topo, const SceneMeasures& measures,
+                      const CrossingSet& set, const Contour& c) {
+  if (c.crossings.empty()) return false;
+  const RawCrossing& x = set.items[c.crossings.front()];
+  return measures.role[topo.tri_mesh[x.face]] == Role::kObstacle ||
+         measures.role[topo.edge_mesh(x.edge)] == Role::kObstacle;
+}
+
+class RepairLoop {
+ public:
+  RepairLoop(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
+             const Rounding& round)
+      : meshes_(meshes),
+        options_(options),
+        round_(round),
+        topo_(build_topology(meshes)),
+        measures_(measure_scene(topo_, meshes, pins, options.threads)),
+        trees_(topo_, measures_),
+        measured_(topo_),
+        scratch_(topo_.points.size()) {
+    detect_.threads = options.threads;
+    region_settings_.outside_closed_obstacles = options.outside_closed_obstacles;
+    for (const Mesh& mesh : meshes_) {
+      const bool obstacle = mesh.role == Role::kObstacle;
+      detect_.skip_among.push_back(obstacle);
+      region_settings_.obstacle.push_back(obstacle);
+    }
+    region_settings_.orientation = measures_.closed;
+    moved_.assign(topo_.points.size(), 0);
+    start_points_ = topo_.points;
+    obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, detect_.skip_among);
+    detect_.skipped_bvh = obstacle_bvh_.get();
+  }
+
+  FixResult run(const FixProgress& progress) {
+    FixResult result;
+    const auto start = Clock::now();
+    result.obstacle_crossing_pairs = measures_.obstacle_crossing_pairs;
+    std::size_t best_crossings = static_cast<std::size_t>(-1);
+    double best_length = INFINITY;
+    int since_best = 0;
+    // After the first iteration only what moved is tested again (update_crossings), on per-mesh
+    // hierarchies refitted to the new positions.
+    std::unique_ptr<SceneHierarchy> hierarchy;
+    CrossingSet set;
+    IntersectionCounts counts;  // of the current positions
+    std::vector<Vec3> before_step;
+    std::vector<std::uint8_t> changed(topo_.points.size(), 0);
+    for (int iteration = 0;; ++iteration) {
+      const auto t0 = Clock::now();
+      if (!hierarchy) {
+        set = detect_crossings(topo_, detect_);
+        hierarchy = std::make_unique<SceneHierarchy>(topo_, detect_);
+      } else {
+        for (std::size_t v = 0; v < changed.size(); ++v)
+          changed[v] = topo_.points[v] != before_step[v] ? 1 : 0;
+        hierarchy->update(topo_, changed);
+        set = update_crossings(topo_, detect_, *hierarchy, set, changed);
+      }
+      const auto t1 = Clock::now();
+      const std::vector<TracedContour> traced = build_contours(topo_, set);
+      const auto t2 = Clock::now();
+      result.detect_ms += ms(t0, t1);
+      result.contours_ms += ms(t1, t2);
+      counts = summarize(topo_, set, traced).counts;
+      if (iteration == 0) result.before = counts;
+      IterationRecord record;
+      record.iteration = iteration;
+      record.crossings = counts.crossings;
+      record.contour_length = counts.contour_length;
+      record.elapsed_ms = ms(start, Clock::now());
+      record.stage = stage_;
+      result.history.push_back(record);
+      result.iterations = iteration;
+      if (progress && !progress(record)) break;
+      if (set.items.empty()) {
+        result.clean = true;
+        break;
+      }
+      if (counts.crossings < best_crossings ||
+          (counts.crossings == best_crossings && counts.contour_length < best_length)) {
+        best_points_ = topo_.points;  // the state written if the run ends unresolved
+        best_counts_ = counts;
+      }
+      if (counts.crossings < best_crossings || counts.contour_length < best_length * (1.0 - 1e-3)) {
+        best_crossings = std::min(best_crossings, counts.crossings);
+        best_length = std::min(best_length, counts.contour_length);
+        since_best = 0;
+      } else if (++since_best >= options_.stall_iterations) {
+        if (escalate(hierarchy, since_best)) continue;
+        result.stalled = true;
+        break;
+      }
+      if (iteration >= options_.max_iterations) break;
+      before_step = topo_.points;
+      measured_.start_step(set, *hierarchy, topo_.tris.size());
+      const bool moved = step(set, traced, result);
+      result.resolve_ms += ms(t2, Clock::now());
+      result.displace_ms = result.resolve_ms - result.regions_ms;
+      if (!moved) {
+        if (escalate(hierarchy, since_best)) continue;
+        result.stalled = true;
+        break;
+      }
+    }
+    // Unresolved: the best state is what is written. Its counts are the loop's own; the written
+    // file is detected once more by the caller (the written files are the truth).
+    if (!result.clean && !best_points_.empty()) {
+      topo_.points = best_points_;
+      counts = best_counts_;
+    }
+    result.after = counts;
+    result.clean = counts.crossings == 0;
+    write_back(result);
+    return result;
+  }
+
+ private:
+  bool escalate(std::unique_ptr<SceneHierarchy>& hierarchy, int& since_best) {
+    if (stage_ >= 3 || best_points_.empty() || options_.method != FixMethod::kRegion) return false;
+    ++stage_;
+    topo_.points = stage_ == 2 ? start_points_ : best_points_;
+    hierarchy.reset();  // positions jumped: the next detection is a full one
+    since_best = 0;
+    return true;
+  }
+
+  // One step: every move kind adds its proposals to one Moves, then they are applied. Returns
+  // false when nothing could move.
+  bool step(const CrossingSet& set, const std::vector<TracedContour>& traced, FixResult& result) {
+    const auto regions_start = Clock::now();
+    const RegionAnalysis analysis = analyse_regions(topo_, set, traced, region_settings_);
+    result.regions_ms += ms(regions_start, Clock::now());
+    const RepairContext ctx{topo_, measures_, options_, detect_, round_, stage_};
+    StepTools tools{trees_, measured_, scratch_};
+    Moves moves(topo_.points.size());
+
+    // Layers and coincident copies are told by their parallel crossings (region method only).
+    const bool region = options_.method == FixMethod::kRegion;
+    ParallelCounts parallel;
+    ComponentPairs layered;
+    if (region) {
+      parallel = parallel_crossings(topo_, set, traced);
+      layered = layered_pairs(ctx, trees_, parallel, layer_orders_);
+    }
+    // Which illegal sets move: movable surfaces only; between two movable surfaces, the side with
+    // the smaller illegal area (the other keeps its shape).
+    std::vector<const IllegalSet*> moving;
+    for (const IllegalSet& s : analysis.illegal) {
+      // A component against itself has no other surface to move across: its labels steer the
+      // DRN. Layers keep their order instead (lay_layer).
+      if (!measures_.movable_component(topo_, s.component) || s.component == s.partner) continue;
+      if (layered.count({std::min(s.component, s.partner), std::max(s.component, s.partner)}))
+        continue;
+      bool smaller = true;
+      for (const IllegalSet& o : analysis.illegal) {
+        if (o.component == s.partner && o.partner == s.component &&
+            measures_.movable_component(topo_, o.component) &&
+            (o.area < s.area || (o.area == s.area && o.component < s.component)))
+          smaller = false;
+      }
+      if (!smaller) continue;
+      bool any_free = false;
+      for (std::uint32_t v : s.vertices) any_free = any_free || measures_.free[v];
+      if (!any_free) continue;
+      moving.push_back(&s);
+      if (s.rule == RegionRule::kInside)
+        ++result.illegal_regions_by_inside;
+      else
+        ++result.illegal_regions_by_area;
+    }
+
+    std::vector<std::uint8_t> in_moving_set(topo_.points.size(), 0);
+    if (region) {
+      FreshTrees trees;  // movable partners, this step
+      for (const IllegalSet* s : moving) {
+        const MeshTree& tree = trees_.component_tree(s->partner, trees);
+        for (std::uint32_t v : s->vertices) in_moving_set[v] = 1;
+        move_regions(ctx, scratch_, topo_.component_mesh[s->component],
+                     measures_.closed[s->partner], s->vertices, tree, moves);
+      }
+      for (const TracedContour& t : traced)
+        self_contour_move(ctx, tools, set, t, analysis, in_moving_set, moves);
+      separate_coincident_layers(ctx, trees_, set, traced, parallel, layered, layer_orders_,
+                                 analysis, in_moving_set, moves);
+      for (const TracedContour& t : traced)
+        flap_move(ctx, tools, set, t, trees, in_moving_set, moves);
+    }
+
+    // The DRN: every crossing (paper method), or those of contours that no moving illegal region
+    // touches (region method).
+    for (const TracedContour& t : traced) {
+      const Contour& c = t.contour;
+      bool covered = false;
+      if (region) {
+        for (std::uint32_t ci : c.crossings) {
+          const RawCrossing& x = set.items[ci];
+          for (std::uint32_t v : topo_.edges[x.edge]) covered = covered || in_moving_set[v];
+          for (std::uint32_t v : topo_.tris[x.face]) covered = covered || in_moving_set[v];
+        }
+      }
+      if (covered) continue;
+      // Layers are laid, not sheared: the DRN would push the inner layer into what lies beneath.
+      const std::uint32_t ca = track_component(topo_, set, t, 0),
+                          cb = track_component(topo_, set, t, 1);
+      if (layered.count({std::min(ca, cb), std::max(ca, cb)})) continue;
+      // Stages 2-3 make only measured moves where both sides move (a self contour, two movable
+      // components): on a finely subdivided fold the DRN's shear is what tangles it further.
+      // Against an obstacle the DRN acts.
+      if (ctx.pieces() && !touches_obstacle(topo_, measures_, set, c))
+        measured_drn_move(ctx, tools, set, t, analysis, in_moving_set, moves);
+      else
+        drn_moves(ctx, set, t, analysis, moves);
+    }
+
+    const SettledMoves settled = settle_moves(ctx, moves);
+    for (std::size_t i = 0; i < settled.movers.size(); ++i) {
+      topo_.points[settled.movers[i]] = settled.next[i];
+      moved_[settled.movers[i]] = 1;
+    }
+    return !settled.movers.empty();
+  }
+
+  // Copies moved welded positions to every input vertex of their group; displacement statistics.
+  void write_back(FixResult& result) {
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::uint32_t m = 0; m < meshes_.size(); ++m) {
+      std::vector<Vec3>& positions = meshes_[m].positions;
+      for (std::uint32_t i = 0; i < positions.size(); ++i) {
+        const std::uint32_t v = topo_.welded[m][i];
+        if (!moved_[v] || topo_.points[v] == start_points_[v]) continue;
+        const double d = norm(sub(topo_.points[v], positions[i]));
+        positions[i] = topo_.points[v];
+        ++count;
+        sum += d;
+        if (d > result.displacement.max) {
+          result.displacement.max = d;
+          result.displacement.max_over_mean_edge =
+              measures_.mean_edge[m] > 0 ? d / measures_.mean_edge[m] : 0.0;
+        }
+      }
+    }
+    result.displacement.moved_vertices = count;
+    result.displacement.mean = count > 0 ? sum / static_cast<double>(count) : 0.0;
+  }
+
+  std::vector<Mesh>& meshes_;
+  const FixOptions& options_;
+  Rounding round_;
+  SceneTopology topo_;
+  SceneMeasures measures_;
+  DetectSettings detect_;
+  RegionSettings region_settings_;
+  std::unique_ptr<TriangleBvh> obstacle_bvh_;  // the obstacles never move: built once
+  SurfaceTrees trees_;
+  MeasuredMoves measured_;
+  Scratch scratch_;
+  LayerOrders layer_orders_;
+  int stage_ = 1;
+  std::vector<std::uint8_t> moved_;  // per welded vertex: moved at least once
+  std::vector<Vec3> start_points_;
+  std::vector<Vec3> best_points_;
+  IntersectionCounts best_counts_;
+};
+
+}  // namespace
+
+FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
+                     const Rounding& round, const FixProgress& progress) {
+  return RepairLoop(meshes, options, pins, round).run(progress);
+}
+
+}  // namespace untangle
