@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "lib/src/geometry/vec3.h"
 #include "untangle/error.h"
 #include "untangle/read_meshes.h"
 
@@ -20,11 +21,6 @@ namespace untangle::scenes {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 scale(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
 Mesh new_mesh(const std::string& name) {
   Mesh mesh;

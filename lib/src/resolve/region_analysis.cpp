@@ -2,21 +2,11 @@
 #include "resolve/region_analysis.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "detect/orientation.h"
+#include "geometry/vec3.h"
 
 namespace untangle {
-namespace {
-
-double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const Vec3 v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  const Vec3 n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-  return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-}
-
-}  // namespace
 
 std::vector<std::int8_t> face_orientations(const SceneTopology& topo) {
   const std::size_t nt = topo.tris.size();
