@@ -98,7 +98,7 @@ std::string valid_utf8(const std::string& s) {
 }
 
 // Some of assimp's bundled parsers (openddlparser for OpenGEX) write to std::cerr or std::cout.
-// The library never prints (STYLE.md): while an importer runs the standard streams go nowhere.
+// The library never prints: while an importer runs the standard streams go nowhere.
 // The streams are process-wide: readers on several threads share one silence, counted, and the
 // last to leave restores the streams.
 class SilencedStreams {
