@@ -413,7 +413,7 @@ Scene sheet_on_spikes() {
 // A square panel at height 0.0137 through a closed sphere of radius 1. At side 1.8 the middle of
 // the panel, most of its area, is inside the body; only its four corners stick out. "The smaller
 // region is illegal" would push the corners in; the body's inside says the middle is illegal.
-// Vertices about 0.05 apart at every side (37 x 37 at 1.8, as before the side was a parameter).
+// Vertices about 0.05 apart at every side (37 x 37 at the default 1.8).
 Scene panel_in_body(double side) {
   Scene scene;
   scene.name = "panel_in_body";

@@ -76,9 +76,8 @@ class PairTable {
 // with its own face (every crossing of a real detection; an arbitrary set may hold others, which
 // never link). No other: t ∩ f runs to a vertex the two share (a loop vertex) or nowhere
 // (broken); two or more: broken. Two passes over the crossings in edge order and one table probe
-// per entry: looking up every edge of t and f in a table by edge (six per link) took more than
-// twice as long at n = 81 of the cow benchmark, for few instructions but many scattered reads of
-// t's and f's corners and edges.
+// per entry, not a lookup of every edge of t and f in a table by edge (six per link): that takes
+// few instructions but many scattered reads of t's and f's corners and edges, and is slower.
 std::vector<Link> link_crossings(const SceneTopology& topo, const CrossingSet& set,
                                  std::vector<std::uint32_t>& link_begin) {
   const std::size_t n = set.items.size();

@@ -19,9 +19,9 @@ namespace {
   throw Error(ExitCode::kUnreadableInput, path, message);
 }
 
-// assimp parses glTF JSON with a recursive parser and builds the node graph recursively: a file
-// of a million '[' or a chain of 30,000 nodes overflows the stack. Real glTF JSON nests about ten
-// levels deep and node chains (skeletons) rarely pass a hundred.
+// assimp parses glTF JSON with a recursive parser and builds the node graph recursively: deep
+// nesting or a long chain of nodes overflows the stack. The limits are far above real glTF, whose
+// JSON nests about ten levels deep and whose node chains (skeletons) rarely pass a hundred.
 constexpr int kMaxJsonDepth = 256;
 constexpr std::size_t kMaxNodeDepth = 1000;
 
@@ -124,7 +124,7 @@ std::uint64_t gltf_element_bytes(const nlohmann::json& accessor) {
 
 // What assimp 5.2 believes in a glTF 2.0 file without comparing it with the data:
 // - an accessor without a buffer view (all zeros, optionally patched by a sparse part) is
-//   allocated at its full count: one of 300 million elements in a 1 KB file took 23 GB;
+//   allocated at its full count, however small the file;
 // - a sparse part is copied by its count and offsets, read past its buffer views when they lie;
 // - every use of an accessor by a primitive or a morph target is a copy, so a small file that
 //   uses one large accessor thousands of times expands without bound.

@@ -19,9 +19,8 @@ namespace {
 // reads the header as a character stream, not as lines or tokens: blanks, line ends and # comment
 // lines, the optional prefixes ST, C, N, 4 and n, then OFF, directly followed by the counts if no
 // blank separates them ("OFF3 1 0" claims 3 vertices), a dimension after nOFF, and counts as
-// 32-bit numbers that wrap on overflow. The header is read here exactly the same way: a looser
-// reading once let "OFF333...3\n4 4 6" pass as 4 vertices, and assimp allocated 17 GB (found by
-// fuzzing).
+// 32-bit numbers that wrap on overflow. The header is read here exactly the same way: any looser
+// reading can pass counts other than the ones assimp allocates.
 void precheck_off(const std::string& path, std::uint64_t size) {
   constexpr std::size_t kHeaderBytes = std::size_t{1} << 20;
   const std::string text = file_start(path, kHeaderBytes);

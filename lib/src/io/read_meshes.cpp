@@ -195,8 +195,8 @@ class ImporterMessages {
 
 // Runs `work` on a thread with a large stack and hands back its result or its exception.
 // assimp's importers, its validation and aiNode's destructor recurse once per level of nesting in
-// the file; the usual 8 MB hold about 15,000 levels of glTF nodes, and a hostile file needs only
-// a few bytes per level. The stack is reserved address space, touched only as deep as used.
+// the file, and a hostile file needs only a few bytes per level: a default thread stack is soon
+// exhausted. The stack is reserved address space, touched only as deep as used.
 template <class Result, class Work>
 Result on_large_stack(Work work) {
   constexpr std::size_t kStack = std::size_t{512} << 20;
@@ -320,9 +320,9 @@ std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std
   const std::string start = file_start(path, 16);
   // The checks go by content, not only by extension: when the importer of a known extension
   // refuses a file, assimp tries every importer on its content, so a PLY file named .glb reaches
-  // the PLY importer (which looped forever on it without end_header: found by fuzzing). The one
-  // exception is .stl: the STL importer takes every .stl file, and a binary STL's free 80-byte
-  // header may start with anything.
+  // the PLY importer (which loops forever on a header without end_header). The one exception is
+  // .stl: the STL importer takes every .stl file, and a binary STL's free 80-byte header may start
+  // with anything.
   const bool stl = extension == ".stl";
   if (extension == ".ply" || (!stl && lower(start.substr(0, 3)) == "ply")) {
     precheck_ply(path, size);
