@@ -1,6 +1,6 @@
-// A bounding-volume hierarchy over the triangles of some meshes: leaves of 2 to 4 triangles in
-// Morton order of their box centres, ranges halved. Built once per mesh (obstacles never move;
-// movable meshes are refitted between iterations of fix).
+// A bounding-volume hierarchy over the triangles of some meshes, the broad phase of detection.
+// Leaves of 2 to 4 triangles in Morton order of their box centres, ranges halved. Built once per
+// mesh (obstacles never move; movable meshes are refitted between iterations of fix).
 #pragma once
 
 #include <cstdint>

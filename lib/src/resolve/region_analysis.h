@@ -1,7 +1,8 @@
-// Global analysis (DESIGN §4): which side of each surface, cut by all contours it shares with one
-// other surface, is illegal. The unit is the connected component (a shirt and trousers stored in
-// one file are two surfaces that can be layered), so "self" contours between two components of one
-// mesh are analysed like contours between two meshes.
+// Global analysis (DESIGN §4): which side of each surface, cut by its contours, is illegal.
+// A surface is cut by all contours it shares with one other surface. The unit is the connected
+// component (a shirt and trousers stored in one file are two surfaces that can be layered), so
+// "self" contours between two components of one mesh are analysed like contours between two
+// meshes.
 #pragma once
 
 #include <cstdint>
