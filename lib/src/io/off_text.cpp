@@ -27,8 +27,7 @@ bool LineReader::next(Line& line) {
       while (k < end && (text_[k] == ' ' || text_[k] == '\t' || text_[k] == '\r')) ++k;
       if (k >= end || text_[k] == '#') break;
       const std::size_t start = k;
-      while (k < end && text_[k] != ' ' && text_[k] != '\t' && text_[k] != '\r' &&
-             text_[k] != '#')
+      while (k < end && text_[k] != ' ' && text_[k] != '\t' && text_[k] != '\r' && text_[k] != '#')
         ++k;
       line.tokens.emplace_back(text_.data() + start, k - start);
       line.token_end.push_back(k);

@@ -28,7 +28,8 @@ std::vector<std::int8_t> face_orientations(const SceneTopology& topo) {
         const std::uint32_t f0 = topo.edge_faces[topo.edge_face_begin[e]];
         const std::uint32_t u = f0 == t ? topo.edge_faces[topo.edge_face_begin[e] + 1] : f0;
         // Consistent neighbours run along their shared edge in opposite directions.
-        const std::int8_t want = forward(t, e) != forward(u, e) ? sign[t] : static_cast<std::int8_t>(-sign[t]);
+        const std::int8_t want =
+            forward(t, e) != forward(u, e) ? sign[t] : static_cast<std::int8_t>(-sign[t]);
         if (sign[u] == 0) {
           sign[u] = want;
           queue.push_back(u);
