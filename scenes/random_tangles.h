@@ -1,6 +1,6 @@
-// Random tangles (issue 5): seeded, reproducible scenes of 2 to 4 small meshes (open sheets, open
-// tubes, closed spheres, boxes and tori) thrown through each other, for property tests of `fix`
-// and of the detector.
+// Random tangles (issue 5): seeded scenes of small meshes thrown through each other.
+// Reproducible scenes of 2 to 4 small meshes (open sheets, open tubes, closed spheres, boxes and
+// tori), for property tests of `fix` and of the detector.
 #pragma once
 
 #include <cstdint>

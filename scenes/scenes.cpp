@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "lib/src/geometry/vec3.h"
 #include "untangle/error.h"
 #include "untangle/read_meshes.h"
 
@@ -20,11 +21,6 @@ namespace untangle::scenes {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 scale(const Vec3& a, double s) { return {a[0] * s, a[1] * s, a[2] * s}; }
-double norm(const Vec3& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
 
 Mesh new_mesh(const std::string& name) {
   Mesh mesh;
@@ -417,7 +413,7 @@ Scene sheet_on_spikes() {
 // A square panel at height 0.0137 through a closed sphere of radius 1. At side 1.8 the middle of
 // the panel, most of its area, is inside the body; only its four corners stick out. "The smaller
 // region is illegal" would push the corners in; the body's inside says the middle is illegal.
-// Vertices about 0.05 apart at every side (37 x 37 at 1.8, as before the side was a parameter).
+// Vertices about 0.05 apart at every side (37 x 37 at the default 1.8).
 Scene panel_in_body(double side) {
   Scene scene;
   scene.name = "panel_in_body";

@@ -6,8 +6,9 @@
 
 namespace untangle {
 
-// Exit codes of the CLI (STYLE.md). "Intersections remain" is a result, not an error, but it has
-// its own code so that pipelines can branch on it.
+// Exit codes of the CLI: part of its interface, listed in the man page (EXIT STATUS).
+// "Intersections remain" is a result, not an error, but it has its own code so that pipelines can
+// branch on it.
 enum class ExitCode : int {
   kOk = 0,            // success: written and intersection-free, or `check` found nothing
   kInternal = 1,      // a bug or an unexpected library failure

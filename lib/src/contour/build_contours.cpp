@@ -2,12 +2,12 @@
 #include "contour/build_contours.h"
 
 #include <algorithm>
-#include <cmath>
 #include <numeric>
 
 #include <tbb/enumerable_thread_specific.h>
 
 #include "detect/run_parallel.h"
+#include "geometry/vec3.h"
 
 namespace untangle {
 namespace {
@@ -25,18 +25,6 @@ struct Link {
 
 bool has_vertex(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
   return tri[0] == v || tri[1] == v || tri[2] == v;
-}
-
-double distance(const Vec3& a, const Vec3& b) {
-  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-  return std::sqrt(dx * dx + dy * dy + dz * dz);
-}
-
-double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-  const Vec3 v{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-  const Vec3 n{u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
-  return 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
 }
 
 // Crossings grouped by triangle pair: crossing (e, f) lies in the pair {t, f} for each triangle t
@@ -88,9 +76,8 @@ class PairTable {
 // with its own face (every crossing of a real detection; an arbitrary set may hold others, which
 // never link). No other: t ∩ f runs to a vertex the two share (a loop vertex) or nowhere
 // (broken); two or more: broken. Two passes over the crossings in edge order and one table probe
-// per entry: looking up every edge of t and f in a table by edge (six per link) took more than
-// twice as long at n = 81 of the cow benchmark, for few instructions but many scattered reads of
-// t's and f's corners and edges.
+// per entry, not a lookup of every edge of t and f in a table by edge (six per link): that takes
+// few instructions but many scattered reads of t's and f's corners and edges, and is slower.
 std::vector<Link> link_crossings(const SceneTopology& topo, const CrossingSet& set,
                                  std::vector<std::uint32_t>& link_begin) {
   const std::size_t n = set.items.size();
@@ -536,9 +523,9 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
       if (lv != kNone) contour.polyline.push_back(topo.points[lv]);
     }
     for (std::size_t k = 1; k < contour.polyline.size(); ++k)
-      contour.length += distance(contour.polyline[k - 1], contour.polyline[k]);
+      contour.length += norm(sub(contour.polyline[k - 1], contour.polyline[k]));
     if (contour.closed && contour.polyline.size() > 2)
-      contour.length += distance(contour.polyline.back(), contour.polyline.front());
+      contour.length += norm(sub(contour.polyline.back(), contour.polyline.front()));
 
     contour.crossings = order;
     traced.edge_track = track;

@@ -4,22 +4,6 @@
 #include <algorithm>
 
 namespace untangle {
-
-Box3 triangle_box(const SceneTopology& topo, std::uint32_t t) {
-  Box3 b;
-  const Vec3& p = topo.points[topo.tris[t][0]];
-  b.lo = p;
-  b.hi = p;
-  for (int k = 1; k < 3; ++k) {
-    const Vec3& q = topo.points[topo.tris[t][k]];
-    for (int a = 0; a < 3; ++a) {
-      b.lo[a] = std::min(b.lo[a], q[a]);
-      b.hi[a] = std::max(b.hi[a], q[a]);
-    }
-  }
-  return b;
-}
-
 namespace {
 
 // Spreads the lower 10 bits of x to every third bit (30-bit Morton codes).

@@ -1,36 +1,19 @@
-// A bounding-volume hierarchy over the triangles of some meshes: leaves of 2 to 4 triangles in
-// Morton order of their box centres, ranges halved. Built once per mesh (obstacles never move;
-// movable meshes are refitted between iterations of fix).
+// A bounding-volume hierarchy over the triangles of some meshes, the broad phase of detection.
+// Leaves of 2 to 4 triangles in Morton order of their box centres, ranges halved. Built once per
+// mesh (obstacles never move; movable meshes are refitted between iterations of fix).
 #pragma once
 
-#include <array>
 #include <cstdint>
 #include <vector>
 
+#include "geometry/box3.h"
 #include "topology/scene_topology.h"
 
 namespace untangle {
 
-struct Box3 {
-  std::array<double, 3> lo{}, hi{};
-  // Closed boxes: touching counts. All six comparisons without early exits: in a descent the
-  // outcome is not predictable, and a mispredicted branch costs more than the comparisons.
-  bool overlaps(const Box3& o) const {
-    bool apart = false;
-    for (int k = 0; k < 3; ++k) apart |= (hi[k] < o.lo[k]) | (o.hi[k] < lo[k]);
-    return !apart;
-  }
-};
-
-Box3 triangle_box(const SceneTopology& topology, std::uint32_t t);
-
-inline Box3 merged(const Box3& a, const Box3& b) {
-  Box3 out;
-  for (int k = 0; k < 3; ++k) {
-    out.lo[k] = a.lo[k] < b.lo[k] ? a.lo[k] : b.lo[k];
-    out.hi[k] = a.hi[k] > b.hi[k] ? a.hi[k] : b.hi[k];
-  }
-  return out;
+// The box of triangle t at the topology's current positions.
+inline Box3 triangle_box(const SceneTopology& topology, std::uint32_t t) {
+  return triangle_box(topology.points, topology.tris[t]);
 }
 
 class TriangleBvh {

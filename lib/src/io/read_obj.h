@@ -1,5 +1,6 @@
-// Our own OBJ reader: keeps the file's vertex order and counts (assimp splits OBJ vertices per
-// face corner), names each line in its errors.
+// Our own OBJ reader, which keeps the file's vertex order and counts.
+// assimp splits OBJ vertices per face corner; this reader does not, and names each line in its
+// errors.
 #pragma once
 
 #include <string>

@@ -1,4 +1,4 @@
-// Our own OFF reader and writer: assimp reads OFF but cannot write it, and splits its vertices.
+// Our own OFF reader: assimp reads OFF but splits its vertices; the writer is write_off.h.
 #pragma once
 
 #include <string>
@@ -11,10 +11,6 @@ namespace untangle {
 // file vertex order. Counts in the header are checked against the file's size before anything is
 // allocated. Throws Error(kUnreadableInput) naming the line.
 Mesh read_off(const std::string& path, Role role);
-
-// The text of `input` (an OFF file) with the coordinates of moved vertices replaced; every other
-// character is kept. Throws Error(kOutputNotWritten) if the file no longer matches the mesh.
-std::string rewrite_off(const std::string& input, const Mesh& mesh);
 
 // Whether the file starts with the plain OFF keyword (not COFF, NOFF, 4OFF, ...).
 bool is_plain_off(const std::string& path);

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "io/read_off.h"
+#include "io/write_off.h"
 #include "untangle/error.h"
 
 namespace untangle {

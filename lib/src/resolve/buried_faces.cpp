@@ -3,12 +3,12 @@
 
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <iterator>
 
 #include "detect/detect_crossings.h"
 #include "detect/run_parallel.h"
 #include "detect/triangle_bvh.h"
+#include "geometry/vec3.h"
 #include "resolve/triangle_tree.h"
 
 namespace untangle {
@@ -16,13 +16,6 @@ namespace {
 
 constexpr std::size_t kRegionSamples = 7;
 constexpr std::size_t kParts = 64;  // parts of the descent, for parallel loops
-
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
 int shared_corners(const std::array<std::uint32_t, 3>& a, const std::array<std::uint32_t, 3>& b) {
   int shared = 0;

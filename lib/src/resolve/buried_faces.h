@@ -1,5 +1,5 @@
-// Which faces of the closed obstacles lie inside an obstacle: where they pass through themselves
-// or through each other.
+// Buried faces: the faces of the closed obstacles that lie inside an obstacle.
+// They occur where obstacles pass through themselves or through each other.
 #pragma once
 
 #include <cstddef>

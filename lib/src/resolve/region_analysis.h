@@ -1,7 +1,8 @@
-// Global analysis (DESIGN §4): which side of each surface, cut by all contours it shares with one
-// other surface, is illegal. The unit is the connected component (a shirt and trousers stored in
-// one file are two surfaces that can be layered), so "self" contours between two components of one
-// mesh are analysed like contours between two meshes.
+// Global analysis (DESIGN §4): which side of each surface, cut by its contours, is illegal.
+// A surface is cut by all contours it shares with one other surface. The unit is the connected
+// component (a shirt and trousers stored in one file are two surfaces that can be layered), so
+// "self" contours between two components of one mesh are analysed like contours between two
+// meshes.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,7 @@
 
 #include "contour/build_contours.h"
 #include "detect/detect_crossings.h"
+#include "topology/orientations.h"  // RegionSettings::orientation is closed_orientations' result
 #include "topology/scene_topology.h"
 
 namespace untangle {
@@ -51,15 +53,5 @@ std::uint32_t track_component(const SceneTopology& topology, const CrossingSet& 
 RegionAnalysis analyse_regions(const SceneTopology& topology, const CrossingSet& crossings,
                                const std::vector<TracedContour>& contours,
                                const RegionSettings& settings);
-
-// Per component: +1 if closed, consistently oriented and enclosing positive volume; -1 if closed
-// and consistently oriented inward; 0 otherwise.
-std::vector<int> closed_orientations(const SceneTopology& topology);
-
-// Per triangle: +1 or -1 so that the triangles of each component, each turned by its sign, agree
-// on their orientation across every edge they share (the lowest triangle of a component keeps its
-// own); 0 for every triangle of a component that is not orientable or has an edge of 3+ faces.
-// A garment whose file flips its faces at a turned-down collar is still oriented this way.
-std::vector<std::int8_t> face_orientations(const SceneTopology& topology);
 
 }  // namespace untangle

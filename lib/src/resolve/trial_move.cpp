@@ -6,21 +6,10 @@
 #include <utility>
 
 #include "detect/triangle_bvh.h"
+#include "geometry/box3.h"
 
 namespace untangle {
 namespace {
-
-Box3 box_at(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& tri) {
-  Box3 b;
-  b.lo = points[tri[0]];
-  b.hi = points[tri[0]];
-  for (int k = 1; k < 3; ++k)
-    for (int a = 0; a < 3; ++a) {
-      b.lo[a] = std::min(b.lo[a], points[tri[k]][a]);
-      b.hi[a] = std::max(b.hi[a], points[tri[k]][a]);
-    }
-  return b;
-}
 
 bool has(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
   return tri[0] == v || tri[1] == v || tri[2] == v;
@@ -141,7 +130,8 @@ std::size_t TrialMove::crossings_of(const DetectSettings& settings, const SceneH
   for (std::uint32_t t : committed_list_)
     if (!affected_[t]) current.push_back(t);
   std::vector<Box3> boxes(current.size());
-  for (std::size_t i = 0; i < current.size(); ++i) boxes[i] = box_at(points_, topo.tris[current[i]]);
+  for (std::size_t i = 0; i < current.size(); ++i)
+    boxes[i] = triangle_box(points_, topo.tris[current[i]]);
   std::vector<std::uint32_t> by_x(current.size());
   for (std::uint32_t i = 0; i < by_x.size(); ++i) by_x[i] = i;
   std::sort(by_x.begin(), by_x.end(), [&](std::uint32_t a, std::uint32_t b) {

@@ -1,9 +1,9 @@
 // describe_mesh: the topological facts `untangle info` prints.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
-#include <cmath>
 #include <numeric>
 
+#include "geometry/vec3.h"
 #include "topology/scene_topology.h"
 #include "untangle/mesh_info.h"
 
@@ -48,10 +48,7 @@ MeshInfo describe_mesh(const Mesh& mesh) {
                         K::Point_3(c[0], c[1], c[2]))) {
       ++info.zero_area_triangles;
     }
-    const Vec3 u{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-    const Vec3 w{c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-    const Vec3 n{u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
-    info.area += 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    info.area += triangle_area(a, b, c);
   }
   for (std::uint32_t v = 0; v < topo.points.size(); ++v)
     if (used[v] && components.find(v) == v) ++info.components;
@@ -61,8 +58,7 @@ MeshInfo describe_mesh(const Mesh& mesh) {
   for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
     const auto& edge = topo.edges[e];
     const Vec3 &a = topo.points[edge[0]], &b = topo.points[edge[1]];
-    edge_sum += std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                          (a[2] - b[2]) * (a[2] - b[2]));
+    edge_sum += norm(sub(a, b));
     const std::size_t faces = topo.edge_face_count(e);
     if (faces >= 3) ++info.non_manifold_edges;
     if (faces == 1) {

@@ -1,4 +1,4 @@
-// Small helpers of the Mesh type.
+// The functions of the public Mesh type (untangle/mesh.h), in the base layer under every stage.
 #include "untangle/mesh.h"
 
 namespace untangle {
