@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "lib/src/geometry/vec3.h"
+#include "geometry/vec3.h"
 #include "untangle/error.h"
 #include "untangle/read_meshes.h"
 
