@@ -1,5 +1,6 @@
 // The man page and the CLI's help agree: it renders without warnings, documents every command,
-// option and exit code that --help lists; --version and usage errors behave as STYLE.md says.
+// option and exit code that --help lists; --version prints the versions on stdout and exits 0, a
+// usage error exits 2 with one line on stderr (docs/CONTRIBUTING.md, "Errors and exit codes").
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
