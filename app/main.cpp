@@ -240,7 +240,8 @@ void add_common(CLI::App& cmd, CommonOptions& o, bool with_check_options) {
     cmd.add_option("--contours", o.contours, "Write the contour polylines as OBJ to FILE")
         ->option_text("FILE");
     cmd.add_option("--threads", o.threads,
-                   "Worker threads, 0 = all cores; the same result for every N" + default_is(o.threads))
+                   "Worker threads, 0 = all cores; the same result for every N" +
+                       default_is(o.threads))
         ->check(CLI::NonNegativeNumber)
         ->option_text("N");
   }
@@ -302,9 +303,10 @@ int main(int argc, char** argv) {
                     std::string(kInside) + "; --orientation-free: " + kArea);
   auto help = std::make_shared<HelpFormatter>();
   const std::string default_mark = " (default)";
+  const bool inside_default = fix_options.outside_closed;
   help->split(inside_rule->get_name(),
-              {{"--outside-closed-obstacles", kInside + (fix_options.outside_closed ? default_mark : "")},
-               {"--orientation-free", kArea + (fix_options.outside_closed ? "" : default_mark)}});
+              {{"--outside-closed-obstacles", kInside + (inside_default ? default_mark : "")},
+               {"--orientation-free", kArea + (inside_default ? "" : default_mark)}});
   fix->formatter(help);
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing output files (never an input)");
   fix->footer(kExitCodes);
