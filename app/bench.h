@@ -5,8 +5,11 @@
 
 #include <string>
 
+#include "untangle/fix.h"
+
 namespace untangle::app {
 
+// The home of bench's own defaults; the help text shows these values.
 struct BenchOptions {
   int repeat = 3;                // runs per scene and method (best and median)
   std::string method = "both";   // region | paper | both
@@ -14,7 +17,7 @@ struct BenchOptions {
   std::string data_dir;          // garments/*.obj against bodies/<prefix>_generic.obj
   bool json = false;             // JSON on stdout instead of the tables
   bool quick = false;            // the small suite (for tests)
-  int threads = 0;
+  int threads = FixOptions{}.threads;
 };
 
 // Runs the benchmark and prints its result. Returns the exit code: 0 when it ran (unresolved

@@ -5,10 +5,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
-#include <sstream>
 #include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "untangle/error.h"
@@ -42,6 +44,36 @@ constexpr const char* kExitCodes =
     "     folder without garment/body pairs)\n"
     "  4  output not written\n"
     "  5  intersections found (check) or remaining in the written output (fix)\n";
+
+// " (default X)" for a help text, X read from the options struct that holds the default: a default
+// is written in one place only (FixOptions, DetectOptions, BenchOptions).
+template <typename T>
+std::string default_is(const T& value) {
+  std::ostringstream text;
+  text << value;
+  return " (default " + text.str() + ")";
+}
+
+// CLI11's help, except that a flag with a negated name (one option, so that the last one given
+// wins) is listed as separate flags, one line each, instead of "--a,--b{false}".
+class HelpFormatter : public CLI::Formatter {
+ public:
+  // The help lines (name, description) of the option named `name`.
+  void split(const std::string& name, std::vector<std::pair<std::string, std::string>> lines) {
+    split_[name] = std::move(lines);
+  }
+  std::string make_option(const CLI::Option* opt, bool is_positional) const override {
+    const auto it = split_.find(opt->get_name());
+    if (is_positional || it == split_.end()) return CLI::Formatter::make_option(opt, is_positional);
+    std::stringstream out;
+    for (const auto& [name, description] : it->second)
+      CLI::detail::format_help(out, name, description, get_column_width());
+    return out.str();
+  }
+
+ private:
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> split_;
+};
 
 // Labels name the mesh inside its file only when the file holds several.
 std::vector<std::string> labels_of(const std::vector<untangle::Mesh>& meshes) {
@@ -207,7 +239,9 @@ void add_common(CLI::App& cmd, CommonOptions& o, bool with_check_options) {
         ->option_text("MESH");
     cmd.add_option("--contours", o.contours, "Write the contour polylines as OBJ to FILE")
         ->option_text("FILE");
-    cmd.add_option("--threads", o.threads, "Worker threads, 0 = all cores (same result for every N)")
+    cmd.add_option("--threads", o.threads,
+                   "Worker threads, 0 = all cores; the same result for every N" +
+                       default_is(o.threads))
         ->check(CLI::NonNegativeNumber)
         ->option_text("N");
   }
@@ -223,6 +257,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   CommonOptions info_options, check_options;
+  check_options.threads = untangle::DetectOptions{}.threads;
   CLI::App* info = app.add_subcommand("info", "Describe each mesh: counts, boundary loops, closedness");
   add_common(*info, info_options, false);
   info->footer(kExitCodes);
@@ -247,28 +282,44 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false)
       ->option_text("NAME");
   fix->add_option("--method", fix_options.method,
-                  "region: move whole illegal regions (default); paper: Eq. 1 on crossing edges only")
+                  "region: move whole illegal regions; paper: Eq. 1 on crossing edges only" +
+                      default_is(fix_options.method))
       ->check(CLI::IsMember({"region", "paper"}))
       ->option_text("region|paper");
-  fix->add_option("--max-iterations", fix_options.max_iterations, "Iteration cap (default 200)")
+  fix->add_option("--max-iterations", fix_options.max_iterations,
+                  "Iteration cap" + default_is(fix_options.max_iterations))
       ->check(CLI::NonNegativeNumber)
       ->option_text("N");
   fix->add_option("--clearance", fix_options.clearance,
-                  "Gap left between surfaces, in mean edge lengths of the moving mesh (default 0.05)")
+                  "Gap left between surfaces, in mean edge lengths of the moving mesh" +
+                      default_is(fix_options.clearance))
       ->check(CLI::NonNegativeNumber)
       ->option_text("X");
-  fix->add_flag("--outside-closed-obstacles,!--orientation-free", fix_options.outside_closed,
-                "A closed obstacle's inside decides the illegal side (default); --orientation-free: "
-                "the smaller region is illegal everywhere (the paper's rule)");
+  // One option with a negated name, so that the last of the two given wins; listed as two flags.
+  const char* const kInside = "A closed obstacle's inside decides the illegal side";
+  const char* const kArea = "The paper's rule everywhere: the smaller region is illegal";
+  CLI::Option* inside_rule =
+      fix->add_flag("--outside-closed-obstacles,!--orientation-free", fix_options.outside_closed,
+                    std::string(kInside) + "; --orientation-free: " + kArea);
+  auto help = std::make_shared<HelpFormatter>();
+  const std::string default_mark = " (default)";
+  const bool inside_default = fix_options.outside_closed;
+  help->split(inside_rule->get_name(),
+              {{"--outside-closed-obstacles", kInside + (inside_default ? default_mark : "")},
+               {"--orientation-free", kArea + (inside_default ? "" : default_mark)}});
+  fix->formatter(help);
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing output files (never an input)");
   fix->footer(kExitCodes);
   untangle::app::BenchOptions bench_options;
   CLI::App* bench = app.add_subcommand(
       "bench", "Time the repair on built-in generated scenes (and garment/body pairs with --data)");
-  bench->add_option("--repeat", bench_options.repeat, "Runs per scene and method; best and median are reported (default 3)")
+  bench->add_option("--repeat", bench_options.repeat,
+                    "Runs per scene and method; best and median are reported" +
+                        default_is(bench_options.repeat))
       ->check(CLI::PositiveNumber)
       ->option_text("N");
-  bench->add_option("--method", bench_options.method, "Method(s) to time: region, paper or both (default both)")
+  bench->add_option("--method", bench_options.method,
+                    "Method(s) to time: region, paper or both" + default_is(bench_options.method))
       ->check(CLI::IsMember({"region", "paper", "both"}))
       ->option_text("region|paper|both");
   bench->add_option("--plot", bench_options.plot_dir,
@@ -279,7 +330,9 @@ int main(int argc, char** argv) {
       ->option_text("DIR");
   bench->add_flag("--json", bench_options.json, "Print the tables and histories as JSON on stdout instead");
   bench->add_flag("--quick", bench_options.quick, "The small suite: four small scenes, accuracy on one");
-  bench->add_option("--threads", bench_options.threads, "Worker threads, 0 = all cores (same result for every N)")
+  bench->add_option("--threads", bench_options.threads,
+                    "Worker threads, 0 = all cores; the same result for every N" +
+                        default_is(bench_options.threads))
       ->check(CLI::NonNegativeNumber)
       ->option_text("N");
   bench->footer(kExitCodes);

@@ -15,13 +15,15 @@
 
 namespace untangle::app {
 
-// Options shared by the commands (as parsed by CLI11).
+// Options shared by the commands (as parsed by CLI11). Every default is read from the library's
+// options struct that holds it (FixOptions), never written here a second time; the help text shows
+// these values.
 struct CommonOptions {
   std::vector<std::string> inputs;
   std::vector<std::string> obstacles;
   std::string report;
   std::string contours;
-  int threads = 0;
+  int threads = FixOptions{}.threads;  // check sets DetectOptions{}.threads (main.cpp)
   bool quiet = false;
   bool verbose = false;
   // fix
@@ -29,11 +31,11 @@ struct CommonOptions {
   std::string output_dir;
   std::vector<std::string> pin_files;
   std::vector<std::string> pin_groups;
-  std::string method = "region";
-  int max_iterations = 200;
-  double clearance = 0.05;
-  double step = 0.25;  // FixOptions::step; not a fix option (yet), varied by bench
-  bool outside_closed = true;
+  std::string method = to_string(FixOptions{}.method);
+  int max_iterations = FixOptions{}.max_iterations;
+  double clearance = FixOptions{}.clearance;
+  double step = FixOptions{}.step;  // not a fix option (yet), varied by bench
+  bool outside_closed = FixOptions{}.outside_closed_obstacles;
   bool overwrite = false;
 };
 

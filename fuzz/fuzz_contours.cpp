@@ -1,6 +1,6 @@
 // libFuzzer target: detection and contour building on small degenerate scenes described by the
 // bytes, and contour building from raw crossing sets (see fuzz_entries.h). Build with the `fuzz`
-// CMake preset; README "Fuzzing" has the commands.
+// CMake preset; docs/FUZZING.md has the commands.
 #include <cstddef>
 #include <cstdint>
 

@@ -1,6 +1,6 @@
 // libFuzzer target: the loader (read_meshes) on every format, then find_intersections on what
 // loads. The first byte of an input picks the file extension, the rest is the file (see
-// fuzz_entries.h). Build with the `fuzz` CMake preset; README "Fuzzing" has the commands.
+// fuzz_entries.h). Build with the `fuzz` CMake preset; docs/FUZZING.md has the commands.
 #include <cstddef>
 #include <cstdint>
 

@@ -1,5 +1,6 @@
 // The man page and the CLI's help agree: it renders without warnings, documents every command,
-// option and exit code that --help lists; --version and usage errors behave as STYLE.md says.
+// option and exit code that --help lists; --version prints the versions on stdout and exits 0, a
+// usage error exits 2 with one line on stderr (docs/CONTRIBUTING.md, "Errors and exit codes").
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -8,10 +9,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -198,6 +201,131 @@ TEST(ManPage, DocumentsEveryCommandOptionAndExitCode) {
   // -h, --help, --version and the subcommands' options at least.
   EXPECT_GE(checked, 3u);
   EXPECT_TRUE(contains_token(options, "--version"));
+}
+
+// The option lines of a help text's "Options:" section: the name column (up to the description)
+// and the description, continuation lines joined.
+std::vector<std::pair<std::string, std::string>> option_lines(const std::string& help) {
+  std::vector<std::pair<std::string, std::string>> out;
+  bool inside = false;
+  for (const std::string& line : lines_of(help)) {
+    if (line.rfind("Options:", 0) == 0) {
+      inside = true;
+      continue;
+    }
+    if (!inside) continue;
+    if (line.find_first_not_of(" \t") == std::string::npos) break;
+    std::smatch m;
+    if (std::regex_match(line, m, std::regex(R"(  (-\S*(?: \S+)*?)(?:  +(.*))?)"))) {
+      out.emplace_back(m[1].str(), m[2].str());
+    } else if (!out.empty()) {
+      out.back().second += " " + std::regex_replace(line, std::regex(R"(^\s+)"), "");
+    }
+  }
+  return out;
+}
+
+// The help texts of every subcommand, by name.
+std::vector<std::pair<std::string, std::string>> subcommand_helps() {
+  std::vector<std::pair<std::string, std::string>> helps;
+  const RunResult top = run_cli("--help");
+  for (const std::string& sub : subcommands_in_help(top.out)) {
+    const RunResult r = run_cli(sub + " --help");
+    helps.emplace_back(sub, r.out);
+  }
+  return helps;
+}
+
+// Each option has one line of its own, with no CLI11 artefact ("--a,--b{false}") in its name
+// column, and states its default at most once.
+TEST(ManPage, HelpListsEachOptionOnce) {
+  const std::vector<std::pair<std::string, std::string>> helps = subcommand_helps();
+  ASSERT_FALSE(helps.empty());
+  for (const auto& [sub, help] : helps) {
+    const auto lines = option_lines(help);
+    EXPECT_FALSE(lines.empty()) << sub << " --help has no options:\n" << help;
+    std::map<std::string, int> seen;
+    for (const auto& [names, description] : lines) {
+      EXPECT_EQ(names.find_first_of("{}"), std::string::npos)
+          << "untangle " << sub << " --help: '" << names << "'";
+      for (const std::string& option : options_in_help(names)) ++seen[option];
+      std::size_t defaults = 0;
+      for (std::size_t at = description.find("(default"); at != std::string::npos;
+           at = description.find("(default", at + 1))
+        ++defaults;
+      EXPECT_LE(defaults, 1u) << "untangle " << sub << " --help: " << names << ": " << description;
+    }
+    for (const auto& [option, count] : seen)
+      EXPECT_EQ(count, 1) << option << " is listed " << count << " times by untangle " << sub
+                          << " --help";
+  }
+}
+
+// The man page source of one tagged paragraph with its macros and quotes taken out and its lines
+// joined: what a reader sees, give or take spaces before punctuation.
+std::string plain_text(const std::string& roff) {
+  std::string text;
+  for (const std::string& line : lines_of(roff)) {
+    text += " " + std::regex_replace(line, std::regex(R"(^\.[A-Za-z]+ ?)"), "");
+  }
+  text = std::regex_replace(text, std::regex("\""), "");
+  return std::regex_replace(text, std::regex(R"(\s+)"), " ");
+}
+
+// Whether `text` says "(default VALUE" with VALUE complete there ("(default 0" is not in
+// "(default 0.05").
+bool states_default(const std::string& text, const std::string& value) {
+  const std::regex special(R"([.^$|()\\[\]{}*+?])");
+  const std::string escaped = std::regex_replace(value, special, R"(\$&)");
+  return std::regex_search(text, std::regex(R"(\(default )" + escaped + R"((?![A-Za-z0-9._-]))"));
+}
+
+// Every default the help states ("(default X)", or "(default)" for one of a flag pair) is the one
+// the man page states for that option of that command: the code's value and the reference agree.
+TEST(ManPage, StatesTheDefaultsOfTheHelp) {
+  const std::string options = man_section(normalized_man_source(), "OPTIONS");
+  ASSERT_FALSE(options.empty());
+  // Tagged paragraphs per subsection: (subsection title, tag line, paragraph).
+  struct Entry {
+    std::string section, tag, text;
+  };
+  std::vector<Entry> entries;
+  std::string section;
+  std::istringstream in(options);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    if (lines[i].rfind(".SS", 0) == 0) section = lines[i];
+    if (lines[i] != ".TP" || i + 1 >= lines.size()) continue;
+    Entry e{section, lines[i + 1], ""};
+    for (std::size_t j = i + 2; j < lines.size(); ++j) {
+      if (lines[j] == ".TP" || lines[j].rfind(".S", 0) == 0) break;
+      e.text += lines[j] + "\n";
+    }
+    entries.push_back(e);
+  }
+  std::size_t checked = 0;
+  for (const auto& [sub, help] : subcommand_helps()) {
+    for (const auto& [names, description] : option_lines(help)) {
+      std::smatch m;
+      if (!std::regex_search(description, m, std::regex(R"(\(default( [^)]*)?\))"))) continue;
+      const std::string value = m[1].matched ? m[1].str().substr(1) : "";
+      for (const std::string& option : options_in_help(names)) {
+        if (option == "-h" || option == "--help") continue;
+        ++checked;
+        bool stated = false;
+        for (const Entry& e : entries) {
+          if (!contains_token(e.section, sub) || !contains_token(e.tag, option)) continue;
+          const std::string text = plain_text(e.text);
+          stated = stated || (value.empty() ? text.find("default") != std::string::npos
+                                            : states_default(text, value));
+        }
+        EXPECT_TRUE(stated) << "untangle " << sub << " --help gives " << option << " the default '"
+                            << value << "'; its entry in the man page's OPTIONS does not say so";
+      }
+    }
+  }
+  EXPECT_GE(checked, 8u);  // threads, method, max-iterations, clearance, the flag, repeat, ...
 }
 
 TEST(ManPage, VersionNamesToolAndLibraries) {

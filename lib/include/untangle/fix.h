@@ -24,6 +24,9 @@ enum class FixMethod {
 };
 const char* to_string(FixMethod method);
 
+// The one home of every default of the repair. The CLI initialises its options from a
+// default-constructed FixOptions (app/pipeline.h) and its help prints these values; the man page
+// states them too, and a test checks that help and man page agree.
 struct FixOptions {
   FixMethod method = FixMethod::kRegion;
   int max_iterations = 200;
