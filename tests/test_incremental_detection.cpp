@@ -1,6 +1,6 @@
 // Incremental re-detection (issue 6): after some vertices move, update_crossings on the refitted
 // or rebuilt hierarchies gives exactly what a full detect_crossings gives on the new positions.
-// Measured moves (issue 4): TrialMove's count of a move equals the change of a full detection.
+// Measured moves (issue 4): MeasuredMoves' count of a move equals the change of a full detection.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -10,7 +10,7 @@
 
 #include "detect/detect_crossings.h"
 #include "detect/triangle_bvh.h"
-#include "resolve/trial_move.h"
+#include "resolve/measured_move.h"
 #include "scenes/scenes.h"
 #include "topology/scene_topology.h"
 
@@ -152,8 +152,8 @@ void run_trials(const scenes::Scene& scene, std::uint32_t seed) {
   settings.skipped_bvh = &obstacle_tree;
   const SceneHierarchy hierarchy(topo, settings);
   const CrossingSet start = detect_crossings(topo, settings);
-  TrialMove trial(topo);
-  trial.sync(start);
+  MeasuredMoves trial(topo);
+  trial.start_step(start, hierarchy, topo.tris.size());
   SceneTopology state = topo;  // the start with the committed moves
   std::size_t state_count = start.items.size();
   std::mt19937 random(seed);
@@ -170,12 +170,12 @@ void run_trials(const scenes::Scene& scene, std::uint32_t seed) {
     if (vertices.empty()) continue;
     const std::size_t next_count = detect_crossings(next, settings).items.size();
     const std::string where = scene.name + " round " + std::to_string(round);
-    const TrialCount exact = trial.count(settings, hierarchy, start, vertices, at);
+    const MoveCount exact = trial.count(settings, start, vertices, at);
     ASSERT_EQ(static_cast<long long>(exact.after) - static_cast<long long>(exact.before),
               static_cast<long long>(next_count) - static_cast<long long>(state_count))
         << where;
     // Stopping early changes only how far above `before` a worse move's count is.
-    const TrialCount early = trial.count(settings, hierarchy, start, vertices, at, true);
+    const MoveCount early = trial.count(settings, start, vertices, at, true);
     EXPECT_EQ(early.before, exact.before) << where;
     if (exact.after <= exact.before) EXPECT_EQ(early.after, exact.after) << where;
     else EXPECT_GT(early.after, early.before) << where;
@@ -191,7 +191,7 @@ void run_trials(const scenes::Scene& scene, std::uint32_t seed) {
   }
 }
 
-TEST_P(IncrementalDetection, TrialMoveCountsEqualFullDetection) {
+TEST_P(IncrementalDetection, MeasuredMoveCountsEqualFullDetection) {
   for (const auto& scene : scenes::named_scenes()) {
     if (scene.name != GetParam()) continue;
     run_trials(scene, 11);

@@ -1,8 +1,13 @@
-// Measured moves (measured_move.h) and the choice among measured candidates.
+// Measured moves (measured_move.h): exact counts of candidate moves, and the choice among them.
 #include "resolve/measured_move.h"
 
 #include <algorithm>
+#include <array>
+#include <limits>
+#include <utility>
 
+#include "detect/triangle_bvh.h"
+#include "geometry/box3.h"
 #include "resolve/move_kinds.h"
 
 namespace untangle {
@@ -12,12 +17,168 @@ namespace {
 // they help, a few small ones do; on two whole garments the step's budget goes to the moves.
 constexpr std::size_t kRelaxShare = 20;
 
+bool has(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
+  return tri[0] == v || tri[1] == v || tri[2] == v;
+}
+
 }  // namespace
+
+MeasuredMoves::MeasuredMoves(const SceneTopology& topology)
+    : topology_(topology),
+      points_(topology.points),
+      affected_(topology.tris.size(), 0),
+      committed_(topology.tris.size(), 0),
+      faces_(topology.tris.size(), 0),
+      taken_(topology.points.size(), 0) {}
+
+void MeasuredMoves::commit(const std::vector<std::uint32_t>& vertices,
+                           const std::vector<Vec3>& at) {
+  for (std::size_t i = 0; i < vertices.size(); ++i) points_[vertices[i]] = at[i];
+  for (std::uint32_t t : topology_.triangles_at(vertices))
+    if (!committed_[t]) {
+      committed_[t] = 1;
+      committed_list_.push_back(t);
+    }
+}
+
+MoveCount MeasuredMoves::count(const DetectSettings& settings, const CrossingSet& set,
+                               const std::vector<std::uint32_t>& vertices,
+                               const std::vector<Vec3>& at, bool stop_above_before) {
+  const SceneTopology& topo = topology_;
+  const std::vector<std::uint32_t> touched = topology_.triangles_at(vertices);
+  for (std::uint32_t t : touched) affected_[t] = 1;
+
+  MoveCount result;
+  result.triangles = touched.size();
+  if (committed_list_.empty()) {
+    // Nothing committed yet: the crossings now are the set's. Through a touched face, or along an
+    // edge of a touched triangle through an untouched face (the set is sorted by edge: each
+    // edge's crossings are one range).
+    std::vector<std::uint32_t> edges;
+    for (std::uint32_t t : touched) {
+      result.before += faces_[t];
+      for (std::uint32_t e : topo.tri_edges[t]) edges.push_back(e);
+    }
+    std::sort(edges.begin(), edges.end());
+    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+    for (std::uint32_t e : edges) {
+      auto it =
+          std::lower_bound(set.items.begin(), set.items.end(), e,
+                           [](const RawCrossing& x, std::uint32_t edge) { return x.edge < edge; });
+      for (; it != set.items.end() && it->edge == e; ++it)
+        if (!affected_[it->face]) ++result.before;
+    }
+  } else {
+    result.before = crossings_of(settings, touched, std::numeric_limits<std::size_t>::max());
+  }
+
+  std::vector<Vec3> was(vertices.size());
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    was[i] = points_[vertices[i]];
+    points_[vertices[i]] = at[i];
+  }
+  result.after =
+      crossings_of(settings, touched,
+                   stop_above_before ? result.before : std::numeric_limits<std::size_t>::max());
+  for (std::size_t i = 0; i < vertices.size(); ++i) points_[vertices[i]] = was[i];
+  for (std::uint32_t t : touched) affected_[t] = 0;
+  return result;
+}
+
+std::size_t MeasuredMoves::crossings_of(const DetectSettings& settings,
+                                        const std::vector<std::uint32_t>& touched,
+                                        std::size_t limit) {
+  const SceneTopology& topo = topology_;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> found;  // (edge, face)
+  // A crossing is found once from each triangle at its edge: the finds are made unique now and
+  // then, and counting stops once more than `limit` distinct ones are in.
+  std::size_t next_check = limit == std::numeric_limits<std::size_t>::max() ? limit : 2 * limit + 8;
+  bool gave_up = false;
+  auto check = [&] {
+    if (found.size() <= next_check) return;
+    std::sort(found.begin(), found.end());
+    found.erase(std::unique(found.begin(), found.end()), found.end());
+    gave_up = found.size() > limit;
+    next_check = 2 * found.size() + 8;
+  };
+  auto test_edges = [&](std::uint32_t t, std::uint32_t f) {
+    const auto& tri = topo.tris[t];
+    const auto& face = topo.tris[f];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t p = tri[k], q = tri[(k + 1) % 3];
+      if (has(face, p) || has(face, q)) continue;
+      if (edge_crosses_triangle(points_, p, q, face[0], face[1], face[2]))
+        found.push_back({topo.tri_edges[t][k], f});
+    }
+  };
+  auto test_pair = [&](std::uint32_t t, std::uint32_t u) {
+    int shared = 0;
+    for (std::uint32_t v : topo.tris[t]) shared += has(topo.tris[u], v) ? 1 : 0;
+    if (gave_up || shared >= 2 || triangles_surely_apart(points_, topo.tris[t], topo.tris[u]))
+      return;
+    test_edges(t, u);
+    test_edges(u, t);
+    check();
+  };
+  const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
+  auto skipped = [&](std::size_t m) {
+    return m < settings.skip_among.size() && settings.skip_among[m];
+  };
+  auto paired = [&](std::uint32_t t, std::uint32_t u) {
+    const std::size_t tm = topo.tri_mesh[t], um = topo.tri_mesh[u];
+    if (tm == um && !settings.self_pairs) return false;
+    return !(skipped(tm) && skipped(um));
+  };
+
+  // Triangles whose boxes in the hierarchy are stale (the touched ones, the committed ones), at
+  // their current boxes: a sweep along x, pairs with a touched triangle in them.
+  std::vector<std::uint32_t> current = touched;
+  for (std::uint32_t t : committed_list_)
+    if (!affected_[t]) current.push_back(t);
+  std::vector<Box3> boxes(current.size());
+  for (std::size_t i = 0; i < current.size(); ++i)
+    boxes[i] = triangle_box(points_, topo.tris[current[i]]);
+  std::vector<std::uint32_t> by_x(current.size());
+  for (std::uint32_t i = 0; i < by_x.size(); ++i) by_x[i] = i;
+  std::sort(by_x.begin(), by_x.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return boxes[a].lo[0] != boxes[b].lo[0] ? boxes[a].lo[0] < boxes[b].lo[0] : a < b;
+  });
+  for (std::size_t i = 0; i < by_x.size() && !gave_up; ++i) {
+    const Box3& box = boxes[by_x[i]];
+    for (std::size_t j = i + 1; j < by_x.size() && boxes[by_x[j]].lo[0] <= box.hi[0]; ++j) {
+      const std::uint32_t t = current[by_x[i]], u = current[by_x[j]];
+      if (!affected_[t] && !affected_[u]) continue;
+      if (paired(t, u) && box.overlaps(boxes[by_x[j]])) test_pair(t, u);
+    }
+  }
+  // The rest through the hierarchy.
+  std::vector<std::uint32_t> near;
+  for (std::size_t i = 0; i < touched.size() && !gave_up; ++i) {
+    const std::uint32_t t = touched[i];
+    const std::uint32_t tm = topo.tri_mesh[t];
+    near.clear();
+    for (std::size_t m = 0; m < meshes; ++m) {
+      if (m == tm && !settings.self_pairs) continue;
+      if (skipped(m) && skipped(tm)) continue;
+      if (const TriangleBvh* tree = hierarchy_->mesh(m)) tree->query(boxes[i], near);
+    }
+    if (!skipped(tm) && settings.skipped_bvh != nullptr)
+      settings.skipped_bvh->query(boxes[i], near);
+    for (std::uint32_t u : near)
+      if (!affected_[u] && !committed_[u]) test_pair(t, u);
+  }
+  std::sort(found.begin(), found.end());
+  return static_cast<std::size_t>(std::unique(found.begin(), found.end()) - found.begin());
+}
 
 void MeasuredMoves::start_step(const CrossingSet& set, const SceneHierarchy& hierarchy,
                                std::size_t triangles) {
   hierarchy_ = &hierarchy;
-  trial_.sync(set);
+  points_ = topology_.points;
+  for (std::uint32_t t : committed_list_) committed_[t] = 0;
+  committed_list_.clear();
+  std::fill(faces_.begin(), faces_.end(), 0);
+  for (const RawCrossing& x : set.items) ++faces_[x.face];
   wide_tried = false;
   for (std::uint32_t v : taken_list_) taken_[v] = 0;
   taken_list_.clear();
@@ -27,8 +188,8 @@ void MeasuredMoves::start_step(const CrossingSet& set, const SceneHierarchy& hie
 
 long long MeasuredMoves::gain(const DetectSettings& detect, const CrossingSet& set,
                               const std::vector<std::uint32_t>& part, const std::vector<Vec3>& at) {
-  const TrialCount count = trial_.count(detect, *hierarchy_, set, part, at, true);
-  return static_cast<long long>(count.before) - static_cast<long long>(count.after);
+  const MoveCount c = count(detect, set, part, at, true);
+  return static_cast<long long>(c.before) - static_cast<long long>(c.after);
 }
 
 void MeasuredMoves::make(const Choice& chosen, std::vector<std::uint8_t>& in_moving_set,
@@ -36,7 +197,7 @@ void MeasuredMoves::make(const Choice& chosen, std::vector<std::uint8_t>& in_mov
   for (std::uint32_t v : chosen.part) in_moving_set[v] = taken_[v] = 1;
   taken_list_.insert(taken_list_.end(), chosen.part.begin(), chosen.part.end());
   moves.add_region(chosen.part, chosen.delta);
-  trial_.commit(chosen.part, chosen.at);
+  commit(chosen.part, chosen.at);
 }
 
 Choice measured_choice(const RepairContext& ctx, StepTools& tools, const CrossingSet& set,
