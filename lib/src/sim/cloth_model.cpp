@@ -1,0 +1,135 @@
+// Projective dynamics for the cloth: the global matrix factored once, a local projection of each
+// spring per iteration.
+#include "sim/cloth_model.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/vec3.h"
+#include "untangle/error.h"
+
+namespace untangle {
+
+void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
+                       const ClothOptions& options, double h, ClothModel& model) {
+  std::vector<Mesh> cloth;
+  for (std::uint32_t m = 0; m < meshes.size(); ++m)
+    if (meshes[m].role == Role::kMovable) {
+      cloth.push_back(meshes[m]);
+      model.cloth_mesh.push_back(m);
+    }
+  model.topo = build_topology(cloth);
+  const SceneTopology& topo = model.topo;
+  const std::size_t n = topo.points.size();
+  if (topo.tris.empty())
+    throw Error(ExitCode::kUnreadableInput, "", "the scene has no cloth triangles to simulate");
+  // Lumped masses: a third of each triangle's area to each corner.
+  model.mass.assign(n, 0.0);
+  for (const auto& tri : topo.tris) {
+    const double a = triangle_area(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]);
+    for (std::uint32_t v : tri) model.mass[v] += options.density * a / 3.0;
+  }
+  double mean_mass = 0.0;
+  for (double m : model.mass) mean_mass += m;
+  mean_mass /= static_cast<double>(n);
+  for (double& m : model.mass)
+    if (!(m > 0.0)) m = mean_mass > 0.0 ? mean_mass : 1.0;  // isolated or degenerate corners
+  model.pinned.assign(n, 0);
+  for (std::size_t k = 0; k < model.cloth_mesh.size(); ++k) {
+    const std::uint32_t m = model.cloth_mesh[k];
+    if (m >= pins.size()) continue;
+    for (std::size_t i = 0; i < pins[m].size() && i < topo.welded[k].size(); ++i)
+      if (pins[m][i]) model.pinned[topo.welded[k][i]] = 1;
+  }
+  model.unknown.assign(n, kNone);
+  std::uint32_t free_count = 0;
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (!model.pinned[v]) model.unknown[v] = free_count++;
+
+  // Springs: every edge (stretch and shear), and across every edge with two faces the distance
+  // between the two opposite corners (bending).
+  auto add_spring = [&](std::uint32_t a, std::uint32_t b, double stiffness, bool stretch) {
+    const double rest = norm(sub(topo.points[a], topo.points[b]));
+    if (!(rest > 0.0)) return;
+    const double weight = stiffness * 0.5 * (model.mass[a] + model.mass[b]);
+    model.springs.push_back({a, b, rest, weight, stretch});
+  };
+  for (const auto& e : topo.edges) add_spring(e[0], e[1], options.stretch, true);
+  if (options.bend > 0.0) {
+    for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
+      if (topo.edge_face_count(e) != 2) continue;
+      std::uint32_t opposite[2];
+      for (int k = 0; k < 2; ++k) {
+        const auto& tri = topo.tris[topo.edge_faces[topo.edge_face_begin[e] + k]];
+        opposite[k] = tri[0];
+        for (std::uint32_t v : tri)
+          if (v != topo.edges[e][0] && v != topo.edges[e][1]) opposite[k] = v;
+      }
+      if (opposite[0] != opposite[1]) add_spring(opposite[0], opposite[1], options.bend, false);
+    }
+  }
+
+  // M + sum w A^T A over the free particles (the system of all three coordinates is the same).
+  std::vector<Eigen::Triplet<double>> entries;
+  for (std::uint32_t v = 0; v < n; ++v)
+    if (model.unknown[v] != kNone) entries.emplace_back(model.unknown[v], model.unknown[v], model.mass[v]);
+  for (const ClothModel::Spring& s : model.springs) {
+    const std::uint32_t ia = model.unknown[s.a], ib = model.unknown[s.b];
+    if (ia != kNone) entries.emplace_back(ia, ia, s.weight);
+    if (ib != kNone) entries.emplace_back(ib, ib, s.weight);
+    if (ia != kNone && ib != kNone) {
+      entries.emplace_back(ia, ib, -s.weight);
+      entries.emplace_back(ib, ia, -s.weight);
+    }
+  }
+  if (free_count == 0) return;  // everything pinned: nothing moves
+  Eigen::SparseMatrix<double> matrix(free_count, free_count);
+  matrix.setFromTriplets(entries.begin(), entries.end());
+  model.solver.compute(matrix);
+  if (model.solver.info() != Eigen::Success)
+    throw Error(ExitCode::kUnreadableInput, "", "the cloth's system matrix cannot be factored");
+  model.factored = true;
+  (void)h;  // the weights are relative to the inertia of one step: h cancels out of the matrix
+}
+
+void integrate_step(const ClothModel& model, const ClothOptions& options, double h,
+                    std::vector<Vec3>& x, const std::vector<Vec3>& v) {
+  const std::size_t n = x.size();
+  if (!model.factored) return;
+  // The inertial target s = x + h v + h^2 g; pinned particles stay.
+  std::vector<Vec3> s(n);
+  for (std::size_t i = 0; i < n; ++i)
+    s[i] = model.pinned[i] ? x[i] : add(add(x[i], scale(v[i], h)), scale(options.gravity, h * h));
+  std::vector<Vec3> now = s;
+  const Eigen::Index free_count = model.solver.rows();
+  Eigen::VectorXd rhs[3] = {Eigen::VectorXd(free_count), Eigen::VectorXd(free_count),
+                            Eigen::VectorXd(free_count)};
+  for (int iteration = 0; iteration < options.solver_iterations; ++iteration) {
+    for (int c = 0; c < 3; ++c) rhs[c].setZero();
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint32_t k = model.unknown[i];
+      if (k == kNone) continue;
+      for (int c = 0; c < 3; ++c) rhs[c][k] += model.mass[i] * s[i][c];
+    }
+    // Local step: each spring's nearest state at its rest length; its share of the right side.
+    for (const ClothModel::Spring& sp : model.springs) {
+      const Vec3 d = sub(now[sp.a], now[sp.b]);
+      const double len = norm(d);
+      const Vec3 p = len > 0.0 ? scale(d, sp.rest / len) : Vec3{0.0, 0.0, 0.0};
+      const std::uint32_t ia = model.unknown[sp.a], ib = model.unknown[sp.b];
+      for (int c = 0; c < 3; ++c) {
+        if (ia != kNone) rhs[c][ia] += sp.weight * (p[c] + (ib == kNone ? now[sp.b][c] : 0.0));
+        if (ib != kNone) rhs[c][ib] += sp.weight * (-p[c] + (ia == kNone ? now[sp.a][c] : 0.0));
+      }
+    }
+    // Global step: one solve per coordinate with the factored matrix.
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::VectorXd solved = model.solver.solve(rhs[c]);
+      for (std::size_t i = 0; i < n; ++i)
+        if (model.unknown[i] != kNone) now[i][c] = solved[model.unknown[i]];
+    }
+  }
+  x = std::move(now);
+}
+
+}  // namespace untangle

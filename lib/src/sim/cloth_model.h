@@ -1,0 +1,45 @@
+// The cloth model of the simulation: particles at the welded vertices of the cloth meshes, lumped
+// masses, stretch and bending as rest-length terms, integrated by projective dynamics with one
+// sparse Cholesky factorization made at the start (Liu et al. 2013, "Fast simulation of
+// mass-spring systems").
+#pragma once
+
+#include <Eigen/Sparse>
+#include <cstdint>
+#include <vector>
+
+#include "topology/scene_topology.h"
+#include "untangle/simulate.h"
+
+namespace untangle {
+
+struct ClothModel {
+  // A term w/2 |x_a - x_b - p|^2 with p = rest (x_a - x_b) / |x_a - x_b| projected every iteration.
+  struct Spring {
+    std::uint32_t a, b;  // particles (welded vertices of the cloth topology)
+    double rest;
+    double weight;  // in units of mass (already divided through by h^2)
+    bool stretch;   // an edge (stretch and shear), not a bending pair
+  };
+  SceneTopology topo;  // over the cloth meshes only (in scene order)
+  std::vector<std::uint32_t> cloth_mesh;  // topology mesh -> scene mesh index
+  std::vector<double> mass;               // per particle
+  std::vector<std::uint8_t> pinned;       // per particle
+  std::vector<std::uint32_t> unknown;     // per particle: index among the free ones, or kNone
+  std::vector<Spring> springs;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;  // M + sum w A^T A, free particles
+  bool factored = false;
+};
+
+// Builds the model of the movable meshes of `meshes` (rest shape: their positions now) for steps
+// of `h` seconds. Throws Error(kUnreadableInput) when the cloth has no triangle or the matrix
+// cannot be factored.
+void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
+                       const ClothOptions& options, double h, ClothModel& model);
+
+// One step of `h` seconds without collisions: x and v (per particle) in, x the predicted end of
+// the step out (v unchanged; the caller sets it from the corrected positions).
+void integrate_step(const ClothModel& model, const ClothOptions& options, double h,
+                    std::vector<Vec3>& x, const std::vector<Vec3>& v);
+
+}  // namespace untangle
