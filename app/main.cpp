@@ -24,6 +24,7 @@
 
 #include "bench.h"
 #include "pipeline.h"
+#include "simulate.h"
 
 namespace {
 
@@ -336,6 +337,37 @@ int main(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber)
       ->option_text("N");
   bench->footer(kExitCodes);
+  untangle::app::SimulateOptions simulate_options;
+  CLI::App* simulate = app.add_subcommand(
+      "simulate", "Drop cloth on an example obstacle, corrected by the repair after every step");
+  simulate->add_option("--example", simulate_options.example, "The scene: ball, box or spikes")
+      ->required()
+      ->check(CLI::IsMember({"ball", "box", "spikes"}))
+      ->option_text("ball|box|spikes");
+  simulate->add_option("--output-dir", simulate_options.output_dir,
+                       "Write DIR/<mesh>.obj (the start) and DIR/<mesh>_<frame>.obj per saved frame")
+      ->required()
+      ->option_text("DIR");
+  simulate->add_option("--frames", simulate_options.frames,
+                       "Frames to simulate" + default_is(simulate_options.frames))
+      ->check(CLI::PositiveNumber)
+      ->option_text("N");
+  simulate->add_option("--save-every", simulate_options.save_every,
+                       "Write every K-th frame (and the last)" + default_is(simulate_options.save_every))
+      ->check(CLI::PositiveNumber)
+      ->option_text("K");
+  simulate->add_option("--report", simulate_options.report,
+                       "Write a JSON report to FILE ('-' = stdout, which then carries nothing else)")
+      ->option_text("FILE");
+  simulate->add_option("--threads", simulate_options.threads,
+                       "Worker threads, 0 = all cores; the same result for every N" +
+                           default_is(simulate_options.threads))
+      ->check(CLI::NonNegativeNumber)
+      ->option_text("N");
+  simulate->add_flag("--overwrite", simulate_options.overwrite,
+                     "Replace frame files and the report left by an earlier run");
+  simulate->add_flag("-q,--quiet", simulate_options.quiet, "Print nothing but errors");
+  simulate->footer(kExitCodes);
 
   try {
     app.parse(argc, argv);
@@ -355,6 +387,7 @@ int main(int argc, char** argv) {
     if (check->parsed()) return run_check(check_options);
     if (fix->parsed()) return run_fix(fix_options);
     if (bench->parsed()) return untangle::app::run_bench(bench_options);
+    if (simulate->parsed()) return untangle::app::run_simulate(simulate_options);
   } catch (const untangle::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return static_cast<int>(e.code());

@@ -6,9 +6,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <nlohmann/json.hpp>
 
 #include "scenes/random_tangles.h"
 #include "scenes/scenes.h"
+#include "test_support.h"
 #include "untangle/error.h"
 #include "untangle/intersections.h"
 #include "untangle/simulate.h"
@@ -123,6 +125,44 @@ TEST(Simulate, BadOptionsAreRefused) {
   SimulationScene no_cloth;
   no_cloth.meshes.push_back(sheet_over_ball(true).meshes[1]);
   EXPECT_THROW(Simulation{std::move(no_cloth)}, Error);
+}
+
+// The command: every saved frame written, read back clean, only `v` lines changed against the
+// start; a second run into the same folder is refused (exit 4) and an unknown example is a usage
+// error (exit 2).
+TEST(SimulateCli, WritesCheckedFramesAndAReport) {
+  testing::TempDir dir;
+  const std::string out = dir.file("frames"), report = dir.file("sim.json");
+  const testing::RunResult r =
+      testing::run_cli("simulate --example box --frames 12 --save-every 6 --output-dir " +
+                       testing::quote(out) + " --report " + testing::quote(report));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(testing::read_text(report));
+  EXPECT_EQ(j["status"], "clean");
+  ASSERT_EQ(j["frames"].size(), 12u);
+  EXPECT_EQ(j["frames"][5]["written_crossings"], 0);
+  EXPECT_EQ(j["frames"][11]["written_crossings"], 0);
+  auto without_v = [](const std::string& text) {
+    std::string kept, line;
+    for (char ch : text) {
+      line += ch;
+      if (ch != '\n') continue;
+      if (line.rfind("v ", 0) != 0) kept += line;
+      line.clear();
+    }
+    return kept + line;
+  };
+  const std::string start = testing::read_text(out + "/sheet.obj");
+  const std::string last = testing::read_text(out + "/sheet_0012.obj");
+  EXPECT_NE(start, last) << "the sheet did not move";
+  EXPECT_EQ(without_v(start), without_v(last)) << "more than positions changed";
+  EXPECT_FALSE(testing::read_text(out + "/sheet_0006.obj").empty());
+  const testing::RunResult again =
+      testing::run_cli("simulate --example box --frames 12 --output-dir " + testing::quote(out));
+  EXPECT_EQ(again.exit_code, 4) << again.err;
+  const testing::RunResult bad =
+      testing::run_cli("simulate --example cow --output-dir " + testing::quote(out));
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
 }
 
 }  // namespace

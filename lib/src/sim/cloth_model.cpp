@@ -72,7 +72,8 @@ void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
   // M + sum w A^T A over the free particles (the system of all three coordinates is the same).
   std::vector<Eigen::Triplet<double>> entries;
   for (std::uint32_t v = 0; v < n; ++v)
-    if (model.unknown[v] != kNone) entries.emplace_back(model.unknown[v], model.unknown[v], model.mass[v]);
+    if (model.unknown[v] != kNone)
+      entries.emplace_back(model.unknown[v], model.unknown[v], model.mass[v]);
   for (const ClothModel::Spring& s : model.springs) {
     const std::uint32_t ia = model.unknown[s.a], ib = model.unknown[s.b];
     if (ia != kNone) entries.emplace_back(ia, ia, s.weight);

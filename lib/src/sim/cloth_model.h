@@ -21,7 +21,7 @@ struct ClothModel {
     double weight;  // in units of mass (already divided through by h^2)
     bool stretch;   // an edge (stretch and shear), not a bending pair
   };
-  SceneTopology topo;  // over the cloth meshes only (in scene order)
+  SceneTopology topo;                     // over the cloth meshes only (in scene order)
   std::vector<std::uint32_t> cloth_mesh;  // topology mesh -> scene mesh index
   std::vector<double> mass;               // per particle
   std::vector<std::uint8_t> pinned;       // per particle

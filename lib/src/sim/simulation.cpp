@@ -13,7 +13,7 @@ namespace untangle {
 struct Simulation::State {
   SimulationScene scene;
   ClothModel model;
-  std::vector<Vec3> x, v;                     // per particle
+  std::vector<Vec3> x, v;                        // per particle
   std::vector<std::vector<Vec3>> obstacle_rest;  // per mesh: positions at frame 0 (obstacles)
   int frame = 0;
   double h = 0.0;
@@ -148,8 +148,7 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
     record.kinetic_energy += 0.5 * s.model.mass[i] * dot(s.v[i], s.v[i]);
   for (const ClothModel::Spring& sp : s.model.springs)
     if (sp.stretch)
-      record.max_stretch =
-          std::max(record.max_stretch, norm(sub(s.x[sp.a], s.x[sp.b])) / sp.rest);
+      record.max_stretch = std::max(record.max_stretch, norm(sub(s.x[sp.a], s.x[sp.b])) / sp.rest);
   return record;
 }
 
