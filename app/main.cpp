@@ -340,16 +340,18 @@ int main(int argc, char** argv) {
   untangle::app::SimulateOptions simulate_options;
   CLI::App* simulate = app.add_subcommand(
       "simulate", "Drop cloth on an example obstacle, corrected by the repair after every step");
-  simulate->add_option("--example", simulate_options.example, "The scene: ball, box or spikes")
-      ->required()
+  simulate->add_option("scene", simulate_options.scene_file,
+                       "Scene file (JSON: meshes, roles, pins, schedules, cloth parameters)");
+  simulate->add_option("--example", simulate_options.example,
+                       "A built-in scene instead of a scene file: ball, box or spikes")
       ->check(CLI::IsMember({"ball", "box", "spikes"}))
       ->option_text("ball|box|spikes");
   simulate->add_option("--output-dir", simulate_options.output_dir,
                        "Write DIR/<mesh>.obj (the start) and DIR/<mesh>_<frame>.obj per saved frame")
       ->required()
       ->option_text("DIR");
-  simulate->add_option("--frames", simulate_options.frames,
-                       "Frames to simulate" + default_is(simulate_options.frames))
+  CLI::Option* frames_option = simulate->add_option("--frames", simulate_options.frames,
+                       "Frames to simulate; a scene file's `frames` otherwise" + default_is(simulate_options.frames))
       ->check(CLI::PositiveNumber)
       ->option_text("N");
   simulate->add_option("--save-every", simulate_options.save_every,
@@ -387,7 +389,10 @@ int main(int argc, char** argv) {
     if (check->parsed()) return run_check(check_options);
     if (fix->parsed()) return run_fix(fix_options);
     if (bench->parsed()) return untangle::app::run_bench(bench_options);
-    if (simulate->parsed()) return untangle::app::run_simulate(simulate_options);
+    if (simulate->parsed()) {
+      simulate_options.frames_given = frames_option->count() > 0;
+      return untangle::app::run_simulate(simulate_options);
+    }
   } catch (const untangle::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return static_cast<int>(e.code());

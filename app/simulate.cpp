@@ -3,10 +3,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -47,29 +51,216 @@ SimulationScene example_scene(const std::string& name) {
   return scene;
 }
 
-std::string frame_path(const fs::path& dir, const Mesh& mesh, int frame) {
+std::string frame_path(const fs::path& dir, const std::string& stem, int frame) {
   char digits[16];
   std::snprintf(digits, sizeof digits, "%04d", frame);
-  return (dir / (mesh.name + "_" + digits + ".obj")).string();
+  return (dir / (stem + "_" + digits + ".obj")).string();
+}
+
+std::string read_text_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ExitCode::kUnreadableInput, path, "cannot be read");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// One input file of the scene: its meshes (indices into the scene) are written together.
+struct SceneInput {
+  std::string path;
+  std::string stem;  // the frames' name: DIR/<stem>_<frame>.obj
+  Role role = Role::kMovable;
+  std::vector<std::size_t> meshes;
+};
+
+[[noreturn]] void bad_key(const std::string& file, const std::string& key, const std::string& why) {
+  throw Error(ExitCode::kUnreadableInput, file, "'" + key + "': " + why);
+}
+
+// Reads SCENE.json (docs: man page, SIMULATE SCENE FILES). Paths are relative to its folder.
+SimulationScene load_scene_file(const std::string& file, std::vector<SceneInput>& inputs,
+                                int& frames) {
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(read_text_file(file));
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(ExitCode::kUnreadableInput, file, std::string("not a JSON scene: ") + e.what());
+  }
+  if (!j.is_object()) throw Error(ExitCode::kUnreadableInput, file, "a scene is a JSON object");
+  auto number = [&](const nlohmann::json& v, const std::string& key) {
+    if (!v.is_number()) bad_key(file, key, "must be a number");
+    return v.get<double>();
+  };
+  auto vec3 = [&](const nlohmann::json& v, const std::string& key) {
+    if (!v.is_array() || v.size() != 3) bad_key(file, key, "must be an array of 3 numbers");
+    return Vec3{number(v[0], key), number(v[1], key), number(v[2], key)};
+  };
+  SimulationScene scene;
+  const fs::path base = fs::path(file).parent_path();
+  for (const auto& [key, value] : j.items()) {
+    if (key == "meshes" || key == "frames" || key == "cloth" || key == "clearance") continue;
+    bad_key(file, key, "unknown key (meshes, frames, cloth, clearance)");
+  }
+  if (j.contains("frames")) {
+    const double f = number(j["frames"], "frames");
+    if (!(f >= 1.0) || f != std::floor(f) || f > 1e7)
+      bad_key(file, "frames", "must be a positive integer");
+    frames = static_cast<int>(f);
+  }
+  if (j.contains("clearance")) scene.options.fix.clearance = number(j["clearance"], "clearance");
+  if (j.contains("cloth")) {
+    const nlohmann::json& c = j["cloth"];
+    if (!c.is_object()) bad_key(file, "cloth", "must be an object");
+    ClothOptions& o = scene.options;
+    for (const auto& [key, value] : c.items()) {
+      const std::string name = "cloth." + key;
+      if (key == "gravity")
+        o.gravity = vec3(value, name);
+      else if (key == "time_step")
+        o.time_step = number(value, name);
+      else if (key == "substeps")
+        o.substeps = static_cast<int>(number(value, name));
+      else if (key == "solver_iterations")
+        o.solver_iterations = static_cast<int>(number(value, name));
+      else if (key == "stretch")
+        o.stretch = number(value, name);
+      else if (key == "bend")
+        o.bend = number(value, name);
+      else if (key == "damping")
+        o.damping = number(value, name);
+      else if (key == "density")
+        o.density = number(value, name);
+      else if (key == "friction")
+        o.friction = number(value, name);
+      else if (key == "restitution")
+        o.restitution = number(value, name);
+      else
+        bad_key(file, name, "unknown key");
+    }
+  }
+  if (!j.contains("meshes") || !j["meshes"].is_array() || j["meshes"].empty())
+    bad_key(file, "meshes", "must be a non-empty array");
+  for (std::size_t k = 0; k < j["meshes"].size(); ++k) {
+    const nlohmann::json& m = j["meshes"][k];
+    const std::string at = "meshes[" + std::to_string(k) + "]";
+    if (!m.is_object() || !m.contains("path") || !m["path"].is_string())
+      bad_key(file, at + ".path", "every mesh needs a path");
+    SceneInput input;
+    const fs::path path = base / m["path"].get<std::string>();
+    input.path = path.string();
+    input.stem = path.stem().string();
+    const std::string role = m.value("role", std::string("cloth"));
+    if (role == "cloth")
+      input.role = Role::kMovable;
+    else if (role == "obstacle")
+      input.role = Role::kObstacle;
+    else
+      bad_key(file, at + ".role", "must be cloth or obstacle");
+    for (const auto& [key, value] : m.items())
+      if (key != "path" && key != "role" && key != "pins" && key != "schedule")
+        bad_key(file, at + "." + key, "unknown key (path, role, pins, schedule)");
+    std::vector<Mesh> read = read_meshes(input.path, input.role);
+    for (Mesh& mesh : read) {
+      input.meshes.push_back(scene.meshes.size());
+      scene.meshes.push_back(std::move(mesh));
+    }
+    if (m.contains("pins")) {
+      if (input.role != Role::kMovable) bad_key(file, at + ".pins", "only cloth is pinned");
+      if (!m["pins"].is_array()) bad_key(file, at + ".pins", "must be an array of vertex indices");
+      // Vertex indices count through the file's meshes in order (as --pin does).
+      scene.pins.resize(scene.meshes.size());
+      for (const nlohmann::json& v : m["pins"]) {
+        const double index = number(v, at + ".pins");
+        std::size_t rest = static_cast<std::size_t>(index);
+        bool placed = false;
+        for (std::size_t mi : input.meshes) {
+          const std::size_t n = scene.meshes[mi].positions.size();
+          if (rest < n) {
+            scene.pins[mi].resize(n, 0);
+            scene.pins[mi][rest] = 1;
+            placed = true;
+            break;
+          }
+          rest -= n;
+        }
+        if (!(index >= 0.0) || index != std::floor(index) || !placed)
+          bad_key(file, at + ".pins", "vertex index out of range");
+      }
+    }
+    if (m.contains("schedule")) {
+      const nlohmann::json& sc = m["schedule"];
+      if (input.role != Role::kObstacle)
+        bad_key(file, at + ".schedule", "only obstacles follow a schedule");
+      if (!sc.is_object()) bad_key(file, at + ".schedule", "must be an object");
+      for (const auto& [key, value] : sc.items())
+        if (key != "from" && key != "frames" && key != "centre")
+          bad_key(file, at + ".schedule." + key, "unknown key (from, frames, centre)");
+      for (std::size_t mi : input.meshes) {
+        ObstacleSchedule schedule;
+        schedule.mesh = mi;
+        schedule.from = number(sc.value("from", nlohmann::json(1.0)), at + ".schedule.from");
+        schedule.frames = static_cast<int>(
+            number(sc.value("frames", nlohmann::json(0)), at + ".schedule.frames"));
+        if (!(schedule.from > 0.0)) bad_key(file, at + ".schedule.from", "must be positive");
+        if (sc.contains("centre")) {
+          schedule.centre = vec3(sc["centre"], at + ".schedule.centre");
+        } else {  // the centre of the file's bounding box
+          Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+          for (std::size_t mj : input.meshes)
+            for (const Vec3& p : scene.meshes[mj].positions)
+              for (int c = 0; c < 3; ++c) {
+                lo[c] = std::min(lo[c], p[c]);
+                hi[c] = std::max(hi[c], p[c]);
+              }
+          for (int c = 0; c < 3; ++c) schedule.centre[c] = 0.5 * (lo[c] + hi[c]);
+        }
+        scene.schedules.push_back(schedule);
+      }
+    }
+    inputs.push_back(std::move(input));
+  }
+  return scene;
 }
 
 }  // namespace
 
 int run_simulate(const SimulateOptions& o) {
-  SimulationScene scene = example_scene(o.example);
+  if (o.scene_file.empty() == o.example.empty())
+    throw Error(ExitCode::kUsage, "", "simulate takes a scene file or --example, one of them");
+  std::vector<SceneInput> inputs;
+  int frames = o.frames;
+  int scene_frames = 0;
+  SimulationScene scene = o.scene_file.empty()
+                              ? example_scene(o.example)
+                              : load_scene_file(o.scene_file, inputs, scene_frames);
+  if (!o.frames_given && scene_frames > 0) frames = scene_frames;
   scene.options.fix.threads = o.threads;
   const fs::path dir = o.output_dir;
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir))
     throw Error(ExitCode::kOutputNotWritten, o.output_dir, "cannot create the output folder");
+  // An example's start is written first, one file per mesh: the frames are rewritten from it.
+  const bool example = o.scene_file.empty();
+  if (example)
+    for (std::size_t m = 0; m < scene.meshes.size(); ++m)
+      inputs.push_back({(dir / (scene.meshes[m].name + ".obj")).string(),
+                        scene.meshes[m].name,
+                        scene.meshes[m].role,
+                        {m}});
   // Every file the run will write, checked before any work.
   std::vector<std::string> planned;
-  for (const Mesh& mesh : scene.meshes) planned.push_back((dir / (mesh.name + ".obj")).string());
-  for (int f = 1; f <= o.frames; ++f)
-    if (f % o.save_every == 0 || f == o.frames)
-      for (const Mesh& mesh : scene.meshes)
-        if (mesh.role == Role::kMovable) planned.push_back(frame_path(dir, mesh, f));
+  if (example)
+    for (const SceneInput& input : inputs) planned.push_back(input.path);
+  for (int f = 1; f <= frames; ++f)
+    if (f % o.save_every == 0 || f == frames)
+      for (const SceneInput& input : inputs)
+        if (input.role == Role::kMovable) planned.push_back(frame_path(dir, input.stem, f));
+  for (const std::string& path : planned)
+    for (const SceneInput& input : inputs)
+      if (!example && fs::exists(path) && fs::equivalent(path, input.path))
+        throw Error(ExitCode::kOutputNotWritten, path,
+                    "is an input of the scene; choose another --output-dir");
   if (!o.overwrite)
     for (const std::string& path : planned)
       if (fs::exists(path))
@@ -77,33 +268,34 @@ int run_simulate(const SimulateOptions& o) {
   if (!o.report.empty() && o.report != "-" && fs::exists(o.report) && !o.overwrite)
     throw Error(ExitCode::kOutputNotWritten, o.report, "exists (use --overwrite to replace it)");
 
-  // The start, as written: the frames are rewritten from these files (only `v` lines change).
-  std::vector<std::string> start_files;
-  for (const Mesh& mesh : scene.meshes) {
-    start_files.push_back((dir / (mesh.name + ".obj")).string());
-    scenes::write_obj(mesh, start_files.back());
-  }
-  std::vector<Mesh> obstacles;
-  for (const Mesh& mesh : scene.meshes)
-    if (mesh.role == Role::kObstacle) obstacles.push_back(mesh);
+  if (example)
+    for (const SceneInput& input : inputs)
+      scenes::write_obj(scene.meshes[input.meshes[0]], input.path);
 
   nlohmann::ordered_json report;
   report["schema_version"] = 1;
   report["command"] = "simulate";
   report["untangle_version"] = UNTANGLE_VERSION;
-  report["example"] = o.example;
+  if (example)
+    report["example"] = o.example;
+  else
+    report["scene"] = o.scene_file;
   const ClothOptions& c = scene.options;
-  report["options"] = {{"frames", o.frames},          {"time_step", c.time_step},
-                       {"substeps", c.substeps},      {"solver_iterations", c.solver_iterations},
-                       {"stretch", c.stretch},        {"bend", c.bend},
-                       {"damping", c.damping},        {"friction", c.friction},
+  report["options"] = {{"frames", frames},
+                       {"time_step", c.time_step},
+                       {"substeps", c.substeps},
+                       {"solver_iterations", c.solver_iterations},
+                       {"stretch", c.stretch},
+                       {"bend", c.bend},
+                       {"damping", c.damping},
+                       {"friction", c.friction},
                        {"clearance", c.fix.clearance}};
-  nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   Simulation sim(std::move(scene));
   const bool progress = !o.quiet && isatty(STDERR_FILENO);
   std::size_t bad_frames = 0;
   double integrate_ms = 0.0, correct_ms = 0.0;
-  for (int f = 1; f <= o.frames; ++f) {
+  for (int f = 1; f <= frames; ++f) {
     const FrameRecord r = sim.advance();
     integrate_ms += r.integrate_ms;
     correct_ms += r.correct_ms;
@@ -114,14 +306,17 @@ int run_simulate(const SimulateOptions& o) {
                                   {"uncorrected_steps", r.uncorrected_steps},
                                   {"kinetic_energy", r.kinetic_energy},
                                   {"max_stretch", r.max_stretch}};
-    if (f % o.save_every == 0 || f == o.frames) {
-      // Written, then read back with the obstacles: the written file is the truth.
-      std::vector<Mesh> written = obstacles;
-      for (std::size_t m = 0; m < sim.meshes().size(); ++m) {
-        const Mesh& mesh = sim.meshes()[m];
-        if (mesh.role != Role::kMovable) continue;
-        const std::string path = frame_path(dir, mesh, f);
-        write_meshes(start_files[m], path, {&mesh});
+    if (f % o.save_every == 0 || f == frames) {
+      // Written, then read back with the obstacles at this frame: the written file is the truth.
+      std::vector<Mesh> written;
+      for (const Mesh& mesh : sim.meshes())
+        if (mesh.role == Role::kObstacle) written.push_back(mesh);
+      for (const SceneInput& input : inputs) {
+        if (input.role != Role::kMovable) continue;
+        const std::string path = frame_path(dir, input.stem, f);
+        std::vector<const Mesh*> of_file;
+        for (std::size_t m : input.meshes) of_file.push_back(&sim.meshes()[m]);
+        write_meshes(input.path, path, of_file);
         for (Mesh& back : read_meshes(path, Role::kMovable)) written.push_back(std::move(back));
       }
       DetectOptions detect;
@@ -132,11 +327,11 @@ int run_simulate(const SimulateOptions& o) {
       if (crossings > 0) ++bad_frames;
     }
     row["timing_ms"] = {{"integrate", r.integrate_ms}, {"correct", r.correct_ms}};
-    frames.push_back(row);
-    if (progress) std::fprintf(stderr, "\rframe %d of %d", f, o.frames);
+    rows.push_back(row);
+    if (progress) std::fprintf(stderr, "\rframe %d of %d", f, frames);
   }
   if (progress) std::fprintf(stderr, "\n");
-  report["frames"] = frames;
+  report["frames"] = rows;
   report["status"] = bad_frames == 0 ? "clean" : "unresolved";
   report["frames_with_crossings"] = bad_frames;
   report["timing_ms"] = {{"integrate", integrate_ms}, {"correct", correct_ms}};
@@ -146,8 +341,9 @@ int run_simulate(const SimulateOptions& o) {
     if (!o.report.empty()) write_text_file_atomically(o.report, report.dump(2) + "\n");
     if (!o.quiet)
       std::printf("simulated %d frames of '%s': %s (%zu saved frames with crossings); wrote %s\n",
-                  o.frames, o.example.c_str(), bad_frames == 0 ? "every frame clean" : "unresolved",
-                  bad_frames, o.output_dir.c_str());
+                  frames, example ? o.example.c_str() : o.scene_file.c_str(),
+                  bad_frames == 0 ? "every frame clean" : "unresolved", bad_frames,
+                  o.output_dir.c_str());
   }
   return static_cast<int>(bad_frames == 0 ? ExitCode::kOk : ExitCode::kIntersecting);
 }

@@ -13,6 +13,7 @@
 #include "test_support.h"
 #include "untangle/error.h"
 #include "untangle/intersections.h"
+#include "untangle/read_meshes.h"
 #include "untangle/simulate.h"
 
 namespace untangle {
@@ -163,6 +164,44 @@ TEST(SimulateCli, WritesCheckedFramesAndAReport) {
   const testing::RunResult bad =
       testing::run_cli("simulate --example cow --output-dir " + testing::quote(out));
   EXPECT_EQ(bad.exit_code, 2) << bad.err;
+}
+
+// A scene file: a sheet pinned at two corners over a box that grows from 0.9 to its size over 5
+// frames. Frames are named after the input files; the pinned corners never move; a bad key is
+// refused with exit 3 and a line naming it.
+TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
+  testing::TempDir dir;
+  scenes::write_obj(
+      scenes::grid_sheet(11, 11, {-0.8, 0.7, -0.8}, {1.6, 0.013, 0.0}, {0.0, -0.011, 1.6}, "sheet"),
+      dir.file("cloth.obj"));
+  scenes::write_obj(scenes::box_surface({0.0, 0.0, 0.0}, {1.5, 0.5, 1.5}, 4, "box"),
+                    dir.file("box.obj"));
+  testing::write_text(dir.file("scene.json"), R"({
+    "meshes": [
+      {"path": "cloth.obj", "role": "cloth", "pins": [0, 10]},
+      {"path": "box.obj", "role": "obstacle", "schedule": {"from": 0.9, "frames": 5}}
+    ],
+    "frames": 8,
+    "cloth": {"substeps": 2, "damping": 1.0}
+  })");
+  const std::string out = dir.file("out");
+  const testing::RunResult r =
+      testing::run_cli("simulate " + testing::quote(dir.file("scene.json")) + " --output-dir " +
+                       testing::quote(out) + " -q");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<Mesh> start = read_meshes(dir.file("cloth.obj"), Role::kMovable);
+  const std::vector<Mesh> last = read_meshes(out + "/cloth_0008.obj", Role::kMovable);
+  ASSERT_EQ(last.size(), 1u);
+  EXPECT_EQ(last[0].positions[0], start[0].positions[0]) << "a pinned corner moved";
+  EXPECT_EQ(last[0].positions[10], start[0].positions[10]) << "a pinned corner moved";
+  EXPECT_NE(last[0].positions[60], start[0].positions[60]) << "the sheet did not move";
+
+  testing::write_text(dir.file("bad.json"), R"({"meshes": [{"path": "cloth.obj", "stiff": 3}]})");
+  const testing::RunResult bad =
+      testing::run_cli("simulate " + testing::quote(dir.file("bad.json")) + " --output-dir " +
+                       testing::quote(dir.file("o2")));
+  EXPECT_EQ(bad.exit_code, 3) << bad.err;
+  EXPECT_NE(bad.err.find("meshes[0].stiff"), std::string::npos) << bad.err;
 }
 
 }  // namespace
