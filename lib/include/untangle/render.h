@@ -54,7 +54,7 @@ struct RenderMarks {
   // Per mesh, per triangle: non-zero tints the triangle magenta (faces that take part in
   // crossings, for `render --inside`).
   std::vector<std::vector<std::uint8_t>> tinted_triangles;
-  // Per mesh, per vertex: a value in [0, 1] (clamped) coloured from pale grey (0) through teal
+  // Per mesh, per vertex: a value in [0, 1] (clamped) coloured from pale blue (0) through teal
   // and yellow to orange (1) instead of the mesh's own colour: the displacement heat map of
   // `fix --preview`.
   std::vector<std::vector<double>> heat;
@@ -79,10 +79,11 @@ struct RenderOptions {
 RenderView best_view(const std::vector<RenderPolyline>& contours);
 
 // A camera looking from `view` (not kAuto) that fits the bounding box of every mesh of every list
-// given (so that two states of one scene share one camera), with a 4 % margin. Meshes without
-// vertices are ignored; an empty scene gives a unit box at the origin.
+// given (so that two states of one scene share one camera), with a 4 % margin, into the picture
+// below its top `top_margin` rows (room for a legend). Meshes without vertices are ignored; an
+// empty scene gives a unit box at the origin.
 RenderCamera fit_camera(const std::vector<const std::vector<Mesh>*>& scenes, RenderView view,
-                        int width, int height);
+                        int width, int height, int top_margin = 0);
 
 // The colour of mesh `index` in `meshes`: obstacles a neutral grey, movable meshes from a fixed
 // palette in order of the movable meshes (no red: red is the contours').
@@ -111,7 +112,7 @@ struct RenderSummary {
 // The picture of `untangle render`: every mesh shaded in its colour (mesh_colour), fitted to the
 // picture from options.view; with options.contours the contours of find_intersections (default
 // DetectOptions, options.threads) in red, with options.inside the triangles of intersecting pairs
-// tinted; a legend with each mesh's file name (without folder; ":name" when a file holds several
+// tinted; above them (the camera leaves room) a legend with each mesh's file name (without folder; ":name" when a file holds several
 // meshes), role, vertices and triangles, then the counts and the view. Detection runs only when
 // contours, inside or the auto view need it. Deterministic, never prints.
 RgbImage render_scene(const std::vector<Mesh>& meshes, const RenderOptions& options,
@@ -121,7 +122,7 @@ RgbImage render_scene(const std::vector<Mesh>& meshes, const RenderOptions& opti
 // (fitted to both states; options.view, kAuto resolved on the contours before): `before` with
 // the contours of `found_before` in red; `after` with those of `found_after` (the remaining
 // ones); `after` again with each movable vertex coloured by its displacement from `before`
-// (pale grey unmoved, orange the largest of the scene), the remaining contours over it. `before` and
+// (pale blue unmoved, orange the largest of the scene), the remaining contours over it. `before` and
 // `after` hold the same meshes in the same order. Deterministic, never prints.
 RgbImage render_before_after(const std::vector<Mesh>& before, const std::vector<Mesh>& after,
                              const Intersections& found_before, const Intersections& found_after,

@@ -73,7 +73,7 @@ RenderView best_view(const std::vector<RenderPolyline>& contours) {
 }
 
 RenderCamera fit_camera(const std::vector<const std::vector<Mesh>*>& scenes, RenderView view,
-                        int width, int height) {
+                        int width, int height, int top_margin) {
   const ViewAxes axes = axes_of(view);
   Vec3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
           std::numeric_limits<double>::infinity()};
@@ -106,10 +106,14 @@ RenderCamera fit_camera(const std::vector<const std::vector<Mesh>*>& scenes, Ren
   // The box's extent along each picture axis (the axes are coordinate axes, up to sign).
   const double across = std::fabs(dot(size, axes.right));
   const double along = std::fabs(dot(size, axes.up));
-  const double w = std::max(1, width), h = std::max(1, height);
+  const int margin = std::max(0, std::min(top_margin, height / 2));
+  const double w = std::max(1, width), h = std::max(1, height - margin);
   double scale = std::max(across / w, along / h) * 1.08;  // 4 % margin on each side
   if (!(scale > 0.0)) scale = 1.0 / std::min(w, h);
   camera.scale = scale;
+  // The box's centre at the middle of the rows below the margin: the picture's centre row is
+  // margin / 2 rows above it, so the camera's centre moves that far up in the scene.
+  for (int c = 0; c < 3; ++c) camera.centre[c] += axes.up[c] * (margin / 2.0) * scale;
   return camera;
 }
 

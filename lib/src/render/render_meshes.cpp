@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "detect/run_parallel.h"
+#include "render/legend.h"
 #include "untangle/render.h"
 
 #include <stb/stb_easy_font.h>
@@ -51,10 +52,10 @@ std::uint8_t to_byte(double v) {
   return static_cast<std::uint8_t>(v + 0.5);
 }
 
-// Pale grey (0, unmoved) -> teal -> yellow -> orange (1): unlike every mesh colour, and no red,
+// Pale blue (0, unmoved) -> teal -> yellow -> orange (1): unlike the obstacles' grey, and no red,
 // which is the contours'.
 Colour heat_colour(double t) {
-  constexpr std::array<Colour, 4> kStops{{{214, 216, 222}, {40, 168, 176}, {236, 214, 56},
+  constexpr std::array<Colour, 4> kStops{{{196, 212, 240}, {40, 168, 176}, {236, 214, 56},
                                           {246, 128, 24}}};
   if (!(t > 0.0)) t = 0.0;
   if (t > 1.0) t = 1.0;
@@ -252,7 +253,7 @@ void fill_rect(Frame& frame, int x0, int y0, int x1, int y1, const Rgb& colour) 
 // The legend: stb_easy_font's glyphs (axis-aligned quads on an integer grid), scaled by `scale`.
 void draw_legend(const std::vector<Mesh>& meshes, const RenderMarks& marks, Frame& frame) {
   if (marks.legend.empty()) return;
-  const int scale = std::min(frame.width, frame.height) >= 800 ? 2 : 1;
+  const int scale = render::legend_scale(frame.width, frame.height);
   const int line_height = 12 * scale, pad = 4 * scale, swatch = 8 * scale;
   int text_width = 0;
   std::vector<std::vector<char>> texts;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "render/legend.h"
 #include "untangle/render.h"
 
 namespace untangle {
@@ -74,7 +75,6 @@ RgbImage render_scene(const std::vector<Mesh>& meshes, const RenderOptions& opti
   }
   const std::vector<RenderPolyline> contours = polylines_of(found);
   const RenderView view = options.view == RenderView::kAuto ? best_view(contours) : options.view;
-  const RenderCamera camera = fit_camera({&meshes}, view, options.width, options.height);
 
   RenderMarks marks;
   if (options.contours) marks.contours = contours;
@@ -102,6 +102,9 @@ RgbImage render_scene(const std::vector<Mesh>& meshes, const RenderOptions& opti
     summary->view = view;
     summary->counts = found.counts;
   }
+  const RenderCamera camera =
+      fit_camera({&meshes}, view, options.width, options.height,
+                 render::legend_bottom(marks.legend.size(), options.width, options.height));
   return render_meshes(meshes, camera, marks, options.threads);
 }
 
@@ -112,8 +115,6 @@ RgbImage render_before_after(const std::vector<Mesh>& before, const std::vector<
   const std::vector<RenderPolyline> contours_after = polylines_of(found_after);
   const RenderView view =
       options.view == RenderView::kAuto ? best_view(contours_before) : options.view;
-  const RenderCamera camera = fit_camera({&before, &after}, view, options.width, options.height);
-
   RenderMarks marks_before;
   marks_before.contours = contours_before;
   RenderMarks marks_after;
@@ -149,9 +150,14 @@ RgbImage render_before_after(const std::vector<Mesh>& before, const std::vector<
     add_mesh_lines(after, marks_after);
     add_line(marks_after, counts_line("", found_after.counts) + " remain");
     add_line(marks_heat, "after: displacement");
-    add_line(marks_heat, "grey 0 .. orange " + short_number(largest) + " (scene units)");
+    add_line(marks_heat, "pale blue 0 .. orange " + short_number(largest) + " (scene units)");
     add_line(marks_heat, counts_line("", found_after.counts) + " remain");
   }
+  const std::size_t lines = std::max(marks_before.legend.size(),
+                                     std::max(marks_after.legend.size(), marks_heat.legend.size()));
+  const RenderCamera camera =
+      fit_camera({&before, &after}, view, options.width, options.height,
+                 render::legend_bottom(lines, options.width, options.height));
   const RgbImage left = render_meshes(before, camera, marks_before, options.threads);
   const RgbImage middle = render_meshes(after, camera, marks_after, options.threads);
   const RgbImage right = render_meshes(after, camera, marks_heat, options.threads);
