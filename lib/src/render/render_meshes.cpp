@@ -150,10 +150,14 @@ std::vector<ScreenTriangle> project(const std::vector<Mesh>& meshes, const Rende
       }
       const double y_lo = std::min({s.y[0], s.y[1], s.y[2]});
       const double y_hi = std::max({s.y[0], s.y[1], s.y[2]});
+      // Off the picture (or not a number): skipped before any conversion to int.
+      if (!(y_hi >= 0.0) || !(y_lo <= camera.height)) continue;
+      const double x_lo = std::min({s.x[0], s.x[1], s.x[2]});
+      const double x_hi = std::max({s.x[0], s.x[1], s.x[2]});
+      if (!(x_hi >= 0.0) || !(x_lo <= camera.width)) continue;
       // Pixel row r has its centre at r + 0.5.
       s.row_min = static_cast<int>(std::max(0.0, std::ceil(y_lo - 0.5)));
       s.row_max = static_cast<int>(std::min(camera.height - 1.0, std::floor(y_hi - 0.5)));
-      if (!(y_hi >= 0.0) || !(y_lo <= camera.height)) continue;
       if (s.row_min > s.row_max) continue;
       out.push_back(s);
     }
@@ -205,6 +209,10 @@ void rasterize_band(const std::vector<ScreenTriangle>& triangles,
 
 // A disc of radius `radius` pixels around picture point (x, y).
 void stamp(Frame& frame, double x, double y, double radius, const Rgb& colour) {
+  // Off the picture (or not a number): nothing to draw, and no conversion to int.
+  if (!(x >= -radius - 1 && x <= frame.width + radius + 1 && y >= -radius - 1 &&
+        y <= frame.height + radius + 1))
+    return;
   const int c0 = static_cast<int>(std::floor(x - radius)), c1 = static_cast<int>(std::ceil(x + radius));
   const int r0 = static_cast<int>(std::floor(y - radius)), r1 = static_cast<int>(std::ceil(y + radius));
   for (int r = r0; r <= r1; ++r) {
