@@ -221,6 +221,20 @@ TEST(RenderCli, WritesAPngAndTheSameBytesAtAnyThreadCount) {
   EXPECT_EQ(be32(20), 150);
 }
 
+// The legend names files without their folder: the same scene in two folders, the same bytes.
+TEST(RenderCli, SamePictureWhereverTheFilesLie) {
+  TempDir a, b;
+  const testing::SceneFiles in_a = testing::write_scene(scenes::sheet_through_sphere(), a);
+  fs::create_directories(b.path() / "deeper" / "folder");
+  const testing::SceneFiles in_b =
+      testing::write_scene(scenes::sheet_through_sphere(), (b.path() / "deeper" / "folder").string());
+  const auto ra = run_cli("render" + in_a.inputs_args() + " -o " + quote(a.file("x.png")) + " --size 120x90");
+  const auto rb = run_cli("render" + in_b.inputs_args() + " -o " + quote(b.file("x.png")) + " --size 120x90");
+  ASSERT_EQ(ra.exit_code, 0) << ra.err;
+  ASSERT_EQ(rb.exit_code, 0) << rb.err;
+  EXPECT_TRUE(read_text(a.file("x.png")) == read_text(b.file("x.png")));
+}
+
 TEST(RenderCli, BadInputGivesExitThreeAndOneLineNamingTheFile) {
   TempDir dir;
   const std::string bad = dir.file("broken.obj");
@@ -278,7 +292,14 @@ TEST(RenderCli, FixPreviewWritesBeforeAfterAndHeat) {
   };
   EXPECT_EQ(be32(16), 3 * RenderOptions{}.width);  // before | after | displacement
   EXPECT_EQ(be32(20), RenderOptions{}.height);
-  // A second run refuses the existing preview before any work, and replaces it with --overwrite.
+  // The same bytes with one thread.
+  const fs::path single = dir.path() / "single";
+  fs::create_directory(single);
+  const auto r1 = run_cli("fix" + files.inputs_args() + " -o " + quote(dir.file("fixed1.obj")) +
+                          " --preview " + quote(single.string()) + " --threads 1");
+  ASSERT_EQ(r1.exit_code, 0) << r1.err;
+  EXPECT_TRUE(read_text((single / "movable_0_before_after.png").string()) == bytes);
+  // A second run refuses the existing preview before any work.
   const auto again = run_cli("fix" + files.inputs_args() + " -o " + quote(dir.file("fixed2.obj")) +
                              " --preview " + quote(previews.string()));
   EXPECT_EQ(again.exit_code, 4) << again.err;
