@@ -123,9 +123,12 @@ int run_render(const RenderCliOptions& o) {
   const RgbImage image = render_scene(meshes, options, &summary);
   write_text_file_atomically(o.output, encode_png(image));
   if (!o.quiet) {
-    std::printf("view %s, %dx%d, %zu crossings, %zu contours, %.0f ms\n", to_string(summary.view),
-                image.width, image.height, summary.counts.crossings, summary.counts.contours,
-                ms_since(start));
+    // Counts only when detection ran (contours, inside or the auto view asked for it).
+    const bool detected = options.contours || options.inside || options.view == RenderView::kAuto;
+    std::printf("view %s, %dx%d", to_string(summary.view), image.width, image.height);
+    if (detected)
+      std::printf(", %zu crossings, %zu contours", summary.counts.crossings, summary.counts.contours);
+    std::printf(", %.0f ms\n", ms_since(start));
     std::printf("wrote %s\n", o.output.c_str());
   }
   return 0;
