@@ -25,6 +25,7 @@
 #include "bench.h"
 #include "pipeline.h"
 #include "simulate.h"
+#include "render.h"
 
 namespace {
 
@@ -179,7 +180,8 @@ int run_check(const CommonOptions& o) {
 }
 
 
-int run_fix(const CommonOptions& o) {
+int run_fix(const CommonOptions& o, const std::string& preview_dir) {
+  const std::string preview = untangle::app::plan_preview(preview_dir, o);  // checked before any work
   const bool show = !o.quiet && o.report != "-";
   untangle::FixProgress progress;
   if (o.verbose && show) {
@@ -190,6 +192,7 @@ int run_fix(const CommonOptions& o) {
     };
   }
   const PipelineRun run = run_pipeline(o, progress);
+  untangle::app::write_preview(preview, run, o);
   const std::vector<std::string>& outputs = run.outputs;
   const untangle::FixResult& result = run.result;
   const untangle::Intersections& verified = run.verified;
@@ -310,6 +313,8 @@ int main(int argc, char** argv) {
                {"--orientation-free", kArea + (inside_default ? "" : default_mark)}});
   fix->formatter(help);
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing output files (never an input)");
+  std::string fix_preview;
+  untangle::app::add_preview_option(*fix, fix_preview);
   fix->footer(kExitCodes);
   untangle::app::BenchOptions bench_options;
   CLI::App* bench = app.add_subcommand(
@@ -370,6 +375,8 @@ int main(int argc, char** argv) {
                      "Replace frame files and the report left by an earlier run");
   simulate->add_flag("-q,--quiet", simulate_options.quiet, "Print nothing but errors");
   simulate->footer(kExitCodes);
+  untangle::app::RenderCliOptions render_options;
+  CLI::App* render = untangle::app::add_render_command(app, render_options, kExitCodes);
 
   try {
     app.parse(argc, argv);
@@ -387,12 +394,13 @@ int main(int argc, char** argv) {
   try {
     if (info->parsed()) return run_info(info_options);
     if (check->parsed()) return run_check(check_options);
-    if (fix->parsed()) return run_fix(fix_options);
+    if (fix->parsed()) return run_fix(fix_options, fix_preview);
     if (bench->parsed()) return untangle::app::run_bench(bench_options);
     if (simulate->parsed()) {
       simulate_options.frames_given = frames_option->count() > 0;
       return untangle::app::run_simulate(simulate_options);
     }
+    if (render->parsed()) return untangle::app::run_render(render_options);
   } catch (const untangle::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return static_cast<int>(e.code());

@@ -18,6 +18,7 @@ packages=(
   libassimp-dev       # mesh file formats
   libtbb-dev          # parallel narrow phase (oneTBB)
   nlohmann-json3-dev  # JSON reports
+  libstb-dev          # render: PNG encoder (stb_image_write) and the legend's font (stb_easy_font)
   libgtest-dev        # tests (GoogleTest)
   libbenchmark-dev    # benchmarks (Google Benchmark)
   libcgal-demo        # the cow mesh (data/meshes/cow.off) used by tests and benchmarks

@@ -1,0 +1,173 @@
+// `untangle render` and `untangle fix --preview DIR`: checks the output, renders, writes the PNG.
+#include "render.h"
+
+#include <cctype>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "untangle/error.h"
+#include "untangle/read_meshes.h"
+#include "untangle/report.h"
+
+namespace untangle::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kMinSize = 16, kMaxSize = 8192;
+
+[[noreturn]] void refuse(const std::string& path, const std::string& why) {
+  throw Error(ExitCode::kOutputNotWritten, path, why);
+}
+
+bool same_file(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+
+// Refuses, before any work, an output that is an input, lies in no folder, exists without
+// --overwrite or is not named .png.
+void check_output(const std::string& out, const std::vector<std::string>& inputs, bool overwrite) {
+  for (const std::string& in : inputs)
+    if (same_file(out, in)) refuse(out, "is an input; untangle never overwrites its inputs");
+  std::string ext = fs::path(out).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".png") refuse(out, "render writes PNG only; name the output *.png");
+  const fs::path parent = fs::path(out).has_parent_path() ? fs::path(out).parent_path() : fs::path(".");
+  std::error_code ec;
+  if (!fs::is_directory(parent, ec)) refuse(out, "folder " + parent.string() + " does not exist");
+  if (fs::exists(out, ec) && !overwrite) refuse(out, "exists; pass --overwrite to replace it");
+}
+
+RenderView parse_view(const std::string& text) {
+  for (RenderView v : {RenderView::kFront, RenderView::kBack, RenderView::kLeft, RenderView::kRight,
+                       RenderView::kTop, RenderView::kAuto})
+    if (text == to_string(v)) return v;
+  throw Error(ExitCode::kUsage, "", "--view " + text + ": expected front, back, left, right, top or auto");
+}
+
+void parse_size(const std::string& text, int& width, int& height) {
+  const std::size_t x = text.find('x');
+  auto number = [&](const std::string& part, int& value) {
+    if (part.empty() || part.size() > 5) return false;
+    for (char c : part)
+      if (!std::isdigit(static_cast<unsigned char>(c))) return false;
+    value = std::stoi(part);
+    return value >= kMinSize && value <= kMaxSize;
+  };
+  if (x == std::string::npos || !number(text.substr(0, x), width) || !number(text.substr(x + 1), height)) {
+    throw Error(ExitCode::kUsage, "",
+                "--size " + text + ": expected WxH, each from " + std::to_string(kMinSize) +
+                    " to " + std::to_string(kMaxSize) + " pixels (e.g. 800x800)");
+  }
+}
+
+std::vector<std::string> all_inputs(const std::vector<std::string>& inputs,
+                                    const std::vector<std::string>& obstacles) {
+  std::vector<std::string> all = inputs;
+  all.insert(all.end(), obstacles.begin(), obstacles.end());
+  return all;
+}
+
+}  // namespace
+
+CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::string& footer) {
+  CLI::App* cmd = app.add_subcommand(
+      "render", "Draw the meshes to a PNG: shaded surfaces, contours in red, a legend");
+  cmd->add_option("meshes", o.inputs, "Mesh files (every format assimp reads), each in its own colour")
+      ->required();
+  cmd->add_option("--obstacle", o.obstacles, "A mesh drawn in a neutral grey (repeatable)")
+      ->allow_extra_args(false)
+      ->option_text("MESH");
+  cmd->add_option("-o,--output", o.output, "The PNG file to write")->required()->option_text("OUT.png");
+  cmd->add_option("--view", o.view,
+                  "Seen from: front (+z), back, left (-x), right, top (+y), or auto: the one that "
+                  "shows the most contour length" + std::string(" (default ") + o.view + ")")
+      ->check(CLI::IsMember({"front", "back", "left", "right", "top", "auto"}))
+      ->option_text("front|back|left|right|top|auto");
+  cmd->add_option("--size", o.size, "Picture size in pixels (default " + o.size + ")")
+      ->option_text("WxH");
+  cmd->add_flag("--contours", o.contours, "Draw the contours in red, over the surfaces");
+  cmd->add_flag("--inside", o.inside, "Tint the faces that take part in crossings (magenta)");
+  cmd->add_flag("--overwrite", o.overwrite, "Replace an existing output file (never an input)");
+  cmd->add_option("--threads", o.threads,
+                  "Worker threads, 0 = all cores; the same bytes for every N (default " +
+                      std::to_string(o.threads) + ")")
+      ->check(CLI::NonNegativeNumber)
+      ->option_text("N");
+  cmd->add_flag("-q,--quiet", o.quiet, "Print nothing but errors");
+  cmd->footer(footer);
+  return cmd;
+}
+
+int run_render(const RenderCliOptions& o) {
+  const auto start = std::chrono::steady_clock::now();
+  RenderOptions options;
+  options.view = parse_view(o.view);
+  parse_size(o.size, options.width, options.height);
+  options.contours = o.contours;
+  options.inside = o.inside;
+  options.threads = o.threads;
+  check_output(o.output, all_inputs(o.inputs, o.obstacles), o.overwrite);
+
+  CommonOptions load;
+  load.inputs = o.inputs;
+  load.obstacles = o.obstacles;
+  const std::vector<Mesh> meshes = load_all(load);
+  RenderSummary summary;
+  const RgbImage image = render_scene(meshes, options, &summary);
+  write_text_file_atomically(o.output, encode_png(image));
+  if (!o.quiet) {
+    // Counts only when detection ran (contours, inside or the auto view asked for it).
+    const bool detected = options.contours || options.inside || options.view == RenderView::kAuto;
+    std::printf("view %s, %dx%d", to_string(summary.view), image.width, image.height);
+    if (detected)
+      std::printf(", %zu crossings, %zu contours", summary.counts.crossings, summary.counts.contours);
+    std::printf(", %.0f ms\n", ms_since(start));
+    std::printf("wrote %s\n", o.output.c_str());
+  }
+  return 0;
+}
+
+void add_preview_option(CLI::App& fix, std::string& dir) {
+  fix.add_option("--preview", dir,
+                 "Also write DIR/<first input's stem>_before_after.png: before, after and the "
+                 "displacement, contours in red")
+      ->option_text("DIR");
+}
+
+std::string plan_preview(const std::string& dir, const CommonOptions& o) {
+  if (dir.empty() || o.inputs.empty()) return "";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) refuse(dir, "--preview: folder does not exist");
+  const std::string path =
+      (fs::path(dir) / (fs::path(o.inputs[0]).stem().string() + "_before_after.png")).string();
+  check_output(path, all_inputs(o.inputs, o.obstacles), o.overwrite);
+  for (const std::string& out : o.outputs)
+    if (same_file(out, path)) refuse(path, "named as both output and preview");
+  return path;
+}
+
+void write_preview(const std::string& path, const PipelineRun& run, const CommonOptions& o) {
+  if (path.empty()) return;
+  std::vector<Mesh> before = run.meshes;
+  for (std::size_t m = 0; m < before.size() && m < run.input.size(); ++m)
+    before[m].positions = run.input[m];
+  // Detected like fix's own verdict: obstacle pairs left out, since fix cannot change them.
+  DetectOptions detect;
+  detect.threads = o.threads;
+  detect.skip_obstacle_pairs = true;
+  const Intersections found_before = find_intersections(before, detect);
+  RenderOptions options;
+  options.threads = o.threads;
+  const RgbImage image =
+      render_before_after(before, run.meshes, found_before, run.verified, options);
+  write_text_file_atomically(path, encode_png(image));
+}
+
+}  // namespace untangle::app

@@ -1,0 +1,40 @@
+// Pictures from the command line: `untangle render` and `untangle fix --preview DIR`.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+#include "pipeline.h"
+#include "untangle/render.h"
+
+namespace untangle::app {
+
+struct RenderCliOptions {
+  std::vector<std::string> inputs;
+  std::vector<std::string> obstacles;
+  std::string output;
+  std::string view = to_string(RenderOptions{}.view);
+  std::string size = std::to_string(RenderOptions{}.width) + "x" +
+                     std::to_string(RenderOptions{}.height);
+  bool contours = false;
+  bool inside = false;
+  bool overwrite = false;
+  bool quiet = false;
+  int threads = RenderOptions{}.threads;
+};
+
+// Adds the `render` subcommand to `app`, options parsed into `o`.
+CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::string& footer);
+int run_render(const RenderCliOptions& o);
+
+// Adds `--preview DIR` to `fix`.
+void add_preview_option(CLI::App& fix, std::string& dir);
+// The files `fix --preview DIR` writes, checked before any work like fix's outputs (throws
+// Error(kOutputNotWritten)): DIR/<stem of the first movable input>_before_after.png.
+std::string plan_preview(const std::string& dir, const CommonOptions& o);
+// Renders and writes the preview of a finished run to `path` (from plan_preview).
+void write_preview(const std::string& path, const PipelineRun& run, const CommonOptions& o);
+
+}  // namespace untangle::app
