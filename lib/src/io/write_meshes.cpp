@@ -5,6 +5,7 @@
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <charconv>
@@ -181,6 +182,16 @@ bool can_write(const std::string& output) {
   return !export_format(exporter, ext).empty();
 }
 
+std::vector<std::string> side_files_of_output(const std::string& input, const std::string& output) {
+  const fs::path target(output);
+  const std::string stem = target.stem().string();
+  const std::string ext = extension_of(output);
+  std::vector<std::string> side;
+  if (ext == "obj" && extension_of(input) != "obj") side.push_back((target.parent_path() / (stem + ".mtl")).string());
+  if (ext == "gltf") side.push_back((target.parent_path() / (stem + ".bin")).string());
+  return side;
+}
+
 std::function<Vec3(const Vec3&)> output_rounding(const std::string& output) {
   if (extension_of(output) == "obj" || extension_of(output) == "off") return {};
   return [](const Vec3& p) {
@@ -226,8 +237,22 @@ void write_meshes(const std::string& input, const std::string& output,
   } else {
     write_with_assimp(input, staged.string(), meshes);
   }
-  for (const auto& entry : fs::directory_iterator(temp)) {
-    fs::rename(entry.path(), folder / entry.path().filename(), ec);
+  // Every staged file is checked before the first one is moved: a file the exporter made that
+  // the caller could not foresee (side_files_of_output) never replaces an existing one.
+  std::vector<fs::path> staged_files;
+  for (const auto& entry : fs::directory_iterator(temp)) staged_files.push_back(entry.path());
+  std::sort(staged_files.begin(), staged_files.end());
+  const std::vector<std::string> side = side_files_of_output(input, output);
+  for (const fs::path& file : staged_files) {
+    const fs::path destination = folder / file.filename();
+    if (file.filename() == target.filename()) continue;
+    bool foreseen = false;
+    for (const std::string& s : side) foreseen = foreseen || fs::path(s).filename() == file.filename();
+    if (!foreseen && fs::exists(fs::symlink_status(destination, ec)))
+      fail(output, "the writer also made " + destination.string() + ", which exists; nothing was replaced");
+  }
+  for (const fs::path& file : staged_files) {
+    fs::rename(file, folder / file.filename(), ec);
     if (ec) fail(output, "cannot move the written file into place: " + ec.message());
   }
 }
