@@ -14,6 +14,7 @@
 #include <random>
 #include <sstream>
 
+#include "io/deterministic_export.h"
 #include "io/read_off.h"
 #include "io/write_off.h"
 #include "untangle/error.h"
@@ -165,12 +166,15 @@ void write_with_assimp(const std::string& input, const std::string& output,
   Assimp::Exporter exporter;
   const std::string format = export_format(exporter, extension_of(output), input);
   if (format.empty()) fail(output, "no writer for the format ." + extension_of(output));
+  // The importer owns the scene; only unnamed nodes get a name (X names them by pointer).
+  prepare_deterministic_export(format, *const_cast<aiScene*>(scene));
   if (exporter.Export(scene, format, output) != AI_SUCCESS) {
     std::string why = exporter.GetErrorString();
     for (char& c : why)
       if (c == '\n') c = ' ';
     fail(output, "export failed: " + why);
   }
+  finish_deterministic_export(format, output, fs::path(output).filename().string());
 }
 
 }  // namespace
