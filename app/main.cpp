@@ -23,6 +23,7 @@
 #include "untangle/write_meshes.h"
 
 #include "bench.h"
+#include "formats.h"
 #include "output_plan.h"
 #include "pipeline.h"
 
@@ -315,6 +316,8 @@ int main(int argc, char** argv) {
   fix->formatter(help);
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing files it writes: outputs, their side files, report, contours (never an input)");
   fix->footer(kExitCodes);
+  CLI::App* formats = app.add_subcommand("formats", "List the file formats untangle reads and writes");
+  formats->footer(kExitCodes);
   untangle::app::BenchOptions bench_options;
   CLI::App* bench = app.add_subcommand(
       "bench", "Time the repair on built-in generated scenes (and garment/body pairs with --data)");
@@ -360,6 +363,7 @@ int main(int argc, char** argv) {
     if (check->parsed()) return run_check(check_options);
     if (fix->parsed()) return run_fix(fix_options);
     if (bench->parsed()) return untangle::app::run_bench(bench_options);
+    if (formats->parsed()) return untangle::app::run_formats();
   } catch (const untangle::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return static_cast<int>(e.code());

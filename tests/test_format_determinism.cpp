@@ -1,11 +1,14 @@
-// Issue 22 §2: the same input gives the same bytes in every writable format, across runs (the
-// exporters' clocks) and thread counts.
+// Issue 22 §2: `untangle formats`, and the same input gives the same bytes in every writable
+// format it lists, across runs (the exporters' clocks) and thread counts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "test_support.h"
 
@@ -27,8 +30,43 @@ constexpr const char* kGarmentPly =
 constexpr const char* kBody =
     "v -0.5 0.1 -1\nv 0.5 0.1 -1\nv 0.5 0.1 1\nv -0.5 0.1 1\nf 1 2 3\nf 1 3 4\n";
 
-// Every extension untangle writes through assimp (`untangle formats`), OBJ from a non-OBJ input.
-constexpr const char* kWritable[] = {"obj", "ply", "stl", "gltf", "glb", "dae", "fbx", "x", "3ds", "x3d", "assbin"};
+// The extensions of the "write" section of `untangle formats`.
+std::vector<std::string> writable_extensions() {
+  const auto r = run_cli("formats");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::vector<std::string> out;
+  std::istringstream lines(r.out.substr(std::min(r.out.size(), r.out.find("\nwrite"))));
+  std::string line;
+  std::getline(lines, line);
+  std::getline(lines, line);  // the title
+  while (std::getline(lines, line)) {
+    std::istringstream fields(line);
+    std::string ext;
+    if (fields >> ext) out.push_back(ext);
+  }
+  return out;
+}
+
+TEST(FormatsCommand, ListsWhatIsReadAndWritten) {
+  const auto r = run_cli("formats");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("read", 0), 0u) << r.out;
+  for (const char* ext : {"\n  obj ", "\n  off ", "\n  ply ", "\n  stl ", "\n  gltf ", "\n  fbx ", "\n  dae "})
+    EXPECT_NE(r.out.find(ext), std::string::npos) << ext;
+  const std::vector<std::string> written = writable_extensions();
+  for (const char* ext : {"obj", "off", "ply", "stl", "gltf", "glb", "dae", "fbx"})
+    EXPECT_NE(std::find(written.begin(), written.end(), ext), written.end()) << ext;
+  // Written by assimp but not read back by it, so never a verified output: refused before work.
+  EXPECT_EQ(std::find(written.begin(), written.end(), "stp"), written.end());
+  TempDir dir;
+  write_text(dir.file("g.ply"), kGarmentPly);
+  write_text(dir.file("b.obj"), kBody);
+  const auto stp = run_cli("fix " + quote(dir.file("g.ply")) + " --obstacle " + quote(dir.file("b.obj")) +
+                           " -o " + quote(dir.file("o.stp")));
+  EXPECT_EQ(stp.exit_code, 4) << stp.err;
+  EXPECT_NE(stp.err.find("untangle formats"), std::string::npos) << stp.err;
+  EXPECT_FALSE(fs::exists(dir.file("o.stp")));
+}
 
 TEST(FormatDeterminism, SameBytesInEveryWritableFormatAcrossRunsAndThreads) {
   TempDir dir;
@@ -40,10 +78,14 @@ TEST(FormatDeterminism, SameBytesInEveryWritableFormatAcrossRunsAndThreads) {
                            " -o " + quote(dir.file(run + "/o." + ext)) + " -q --threads " + threads);
     EXPECT_EQ(r.exit_code, 0) << ext << ": " << r.err;
   };
-  for (const char* ext : kWritable) fix("1", ext, "1");
+  // OFF is written only from a plain OFF input, as an edited copy (tests/test_fix.cpp).
+  std::vector<std::string> formats = writable_extensions();
+  formats.erase(std::remove(formats.begin(), formats.end(), "off"), formats.end());
+  ASSERT_GE(formats.size(), 8u);
+  for (const std::string& ext : formats) fix("1", ext, "1");
   // The clocks in FBX and Collada files count seconds.
   std::this_thread::sleep_for(std::chrono::milliseconds(1100));
-  for (const char* ext : kWritable) fix("2", ext, "2");
+  for (const std::string& ext : formats) fix("2", ext, "2");
   std::size_t compared = 0;
   for (const auto& entry : fs::directory_iterator(dir.file("1"))) {
     const fs::path other = fs::path(dir.file("2")) / entry.path().filename();
@@ -51,7 +93,7 @@ TEST(FormatDeterminism, SameBytesInEveryWritableFormatAcrossRunsAndThreads) {
     EXPECT_TRUE(read_text(entry.path().string()) == read_text(other.string())) << entry.path().filename();
     ++compared;
   }
-  EXPECT_GE(compared, std::size(kWritable));
+  EXPECT_GE(compared, formats.size());
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 
 #include "io/deterministic_export.h"
 #include "io/read_off.h"
+#include "io/verified_exports.h"
 #include "io/write_off.h"
 #include "untangle/error.h"
 
@@ -182,6 +183,7 @@ void write_with_assimp(const std::string& input, const std::string& output,
 bool can_write(const std::string& output) {
   const std::string ext = extension_of(output);
   if (ext == "obj" || ext == "off") return true;
+  if (!is_verified_export(ext)) return false;
   Assimp::Exporter exporter;
   return !export_format(exporter, ext).empty();
 }
