@@ -72,7 +72,7 @@ void add_read(const std::string& path, const std::string& label, std::vector<Pla
   const std::string ext = lower_extension(path);
   if (ext == ".obj") obj_side_files(path, side);
   if (ext == ".gltf") gltf_side_files(path, side);
-  for (const std::string& s : side) out.push_back({s, s + ", a side file of " + label + " " + path});
+  for (const std::string& s : side) out.push_back({s, "the side file " + s + " of " + label + " " + path});
 }
 
 // Identity of a file: device and inode when it exists (symlinks followed, so hard links and
@@ -124,7 +124,7 @@ std::vector<PlannedFile> files_written(const CommonOptions& o, const std::vector
     written.push_back({outputs[k], "output " + outputs[k]});
     if (k >= o.inputs.size()) continue;
     for (const std::string& side : side_files_of_output(o.inputs[k], outputs[k]))
-      written.push_back({side, side + ", the side file of output " + outputs[k] + ","});
+      written.push_back({side, "side file " + side + " of output " + outputs[k]});
   }
   if (!o.report.empty() && o.report != "-") written.push_back({o.report, "--report " + o.report});
   if (!o.contours.empty() && o.contours != "-") written.push_back({o.contours, "--contours " + o.contours});
@@ -153,10 +153,10 @@ void check_written_files(const CommonOptions& o, const std::vector<std::string>&
     const fs::path folder = target.has_parent_path() ? target.parent_path() : fs::path(".");
     std::error_code ec;
     if (!fs::is_directory(folder, ec))
-      refuse(file.path + ": folder " + folder.string() + " does not exist");
+      refuse(file.label + ": folder " + folder.string() + " does not exist");
     if (::access(folder.c_str(), W_OK | X_OK) != 0)
-      refuse(file.path + ": folder " + folder.string() + " is not writable");
-    if (fs::is_directory(target, ec)) refuse(file.path + " is a folder");
+      refuse(file.label + ": folder " + folder.string() + " is not writable");
+    if (fs::is_directory(target, ec)) refuse(file.label + " is a folder");
     // A dangling symlink exists too: the rename into place would replace it.
     if (fs::exists(fs::symlink_status(target, ec)) && !o.overwrite)
       refuse(file.label + " exists; pass --overwrite to replace it");

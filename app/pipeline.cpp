@@ -58,6 +58,7 @@ std::vector<std::string> plan_outputs(const CommonOptions& o) {
   }
   for (std::size_t k = 0; k < outputs.size(); ++k) {
     const std::string& out = outputs[k];
+    if (out == "-") refuse(out, "meshes are written to files, not to stdout");
     if (!can_write(out)) refuse(out, "no writer for this file extension (`untangle formats` lists those it writes)");
     auto ext = [](const std::string& p) {
       std::string e = fs::path(p).extension().string();
