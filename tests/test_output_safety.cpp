@@ -110,6 +110,8 @@ TEST(OutputSafety, ContoursOnTheObstacleIsRefused) {
   expect_refused(run_cli("check " + quote(s.g) + " --obstacle " + quote(s.b) + " --contours " + quote(s.b)),
                  {s.b}, s);
   expect_refused(run_cli("check " + quote(s.g) + " --report " + quote(s.g)), {s.g}, s);
+  expect_refused(run_cli("info " + quote(s.g) + " " + quote(s.b) + " --report " + quote(s.b) + " --overwrite"),
+                 {"--report " + s.b, "the input " + s.b}, s);
   const std::string both = s.dir.file("both.txt");
   expect_refused(run_cli(s.fix("--report " + quote(both) + " --contours " + quote(both))), {both}, s);
   EXPECT_FALSE(fs::exists(both));
