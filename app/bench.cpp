@@ -26,6 +26,7 @@
 #include "untangle/error.h"
 #include "untangle/read_meshes.h"
 #include "untangle/report.h"
+#include "untangle/version.h"
 
 namespace untangle::app {
 namespace {
@@ -362,6 +363,7 @@ int run_bench(const BenchOptions& options) {
   if (options.json) {
     nlohmann::ordered_json j;
     j["schema_version"] = kReportSchemaVersion;
+    j["untangle_version"] = untangle::untangle_version();
     j["command"] = "bench";
     j["repeat"] = options.repeat;
     j["threads"] = options.threads;

@@ -23,6 +23,8 @@
 #include "untangle/write_meshes.h"
 
 #include "bench.h"
+#include "formats.h"
+#include "output_plan.h"
 #include "pipeline.h"
 #include "simulate.h"
 #include "render.h"
@@ -98,7 +100,11 @@ void emit_report(const std::string& target, const std::string& json) {
   }
 }
 
+// Whether stdout carries a JSON report or a contour file, and so nothing else.
+bool stdout_is_data(const CommonOptions& o) { return o.report == "-" || o.contours == "-"; }
+
 int run_info(const CommonOptions& o) {
+  untangle::app::check_written_files(o, {});
   const std::vector<untangle::Mesh> meshes = load_all(o);
   std::vector<untangle::MeshInfo> infos;
   for (const auto& m : meshes) infos.push_back(untangle::describe_mesh(m));
@@ -126,6 +132,7 @@ int run_info(const CommonOptions& o) {
 }
 
 int run_check(const CommonOptions& o) {
+  untangle::app::check_written_files(o, {});
   const auto start = std::chrono::steady_clock::now();
   const std::vector<untangle::Mesh> meshes = load_all(o);
   std::vector<untangle::MeshInfo> infos;
@@ -140,14 +147,12 @@ int run_check(const CommonOptions& o) {
   timings.detect = detect.detect_ms;
   timings.contours = detect.contours_ms;
 
-  if (!o.contours.empty()) {
-    untangle::write_text_file_atomically(o.contours, untangle::contours_obj(found));
-  }
+  emit_report(o.contours, untangle::contours_obj(found));
   timings.total = ms_since(start);
 
   const auto& c = found.counts;
   const bool clean = c.crossings == 0;
-  if (!o.quiet && o.report != "-") {
+  if (!o.quiet && !stdout_is_data(o)) {
     const std::vector<std::string> labels = labels_of(meshes);
     if (o.verbose) {
       for (std::size_t i = 0; i < meshes.size(); ++i) {
@@ -182,7 +187,7 @@ int run_check(const CommonOptions& o) {
 
 int run_fix(const CommonOptions& o, const std::string& preview_dir) {
   const std::string preview = untangle::app::plan_preview(preview_dir, o);  // checked before any work
-  const bool show = !o.quiet && o.report != "-";
+  const bool show = !o.quiet && !stdout_is_data(o);
   untangle::FixProgress progress;
   if (o.verbose && show) {
     progress = [](const untangle::IterationRecord& r) {
@@ -197,9 +202,7 @@ int run_fix(const CommonOptions& o, const std::string& preview_dir) {
   const untangle::FixResult& result = run.result;
   const untangle::Intersections& verified = run.verified;
 
-  if (!o.contours.empty()) {
-    untangle::write_text_file_atomically(o.contours, untangle::contours_obj(verified));
-  }
+  emit_report(o.contours, untangle::contours_obj(verified));
   const bool clean = verified.counts.crossings == 0;
   if (show) {
     std::printf("before: %zu crossings, %zu contours; after %d iterations: %zu crossings, %zu contours\n",
@@ -241,7 +244,7 @@ void add_common(CLI::App& cmd, CommonOptions& o, bool with_check_options) {
     cmd.add_option("--obstacle", o.obstacles, "A mesh that never moves (repeatable)")
         ->allow_extra_args(false)
         ->option_text("MESH");
-    cmd.add_option("--contours", o.contours, "Write the contour polylines as OBJ to FILE")
+    cmd.add_option("--contours", o.contours, "Write the contour polylines as OBJ to FILE ('-' = stdout, which then carries nothing else)")
         ->option_text("FILE");
     cmd.add_option("--threads", o.threads,
                    "Worker threads, 0 = all cores; the same result for every N" +
@@ -264,10 +267,13 @@ int main(int argc, char** argv) {
   check_options.threads = untangle::DetectOptions{}.threads;
   CLI::App* info = app.add_subcommand("info", "Describe each mesh: counts, boundary loops, closedness");
   add_common(*info, info_options, false);
+  info->add_flag("--overwrite", info_options.overwrite, "Replace an existing report file (never an input)");
   info->footer(kExitCodes);
   CLI::App* check = app.add_subcommand(
       "check", "Find every crossing between and within meshes; build and classify contours");
   add_common(*check, check_options, true);
+  check->add_flag("--overwrite", check_options.overwrite,
+                  "Replace an existing report or contour file (never an input)");
   check->footer(kExitCodes);
   CommonOptions fix_options;
   CLI::App* fix = app.add_subcommand(
@@ -312,10 +318,12 @@ int main(int argc, char** argv) {
               {{"--outside-closed-obstacles", kInside + (inside_default ? default_mark : "")},
                {"--orientation-free", kArea + (inside_default ? "" : default_mark)}});
   fix->formatter(help);
-  fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing output files (never an input)");
+  fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing files it writes: outputs, their side files, report, contours (never an input)");
   std::string fix_preview;
   untangle::app::add_preview_option(*fix, fix_preview);
   fix->footer(kExitCodes);
+  CLI::App* formats = app.add_subcommand("formats", "List the file formats untangle reads and writes");
+  formats->footer(kExitCodes);
   untangle::app::BenchOptions bench_options;
   CLI::App* bench = app.add_subcommand(
       "bench", "Time the repair on built-in generated scenes (and garment/body pairs with --data)");
@@ -401,6 +409,7 @@ int main(int argc, char** argv) {
       return untangle::app::run_simulate(simulate_options);
     }
     if (render->parsed()) return untangle::app::run_render(render_options);
+    if (formats->parsed()) return untangle::app::run_formats();
   } catch (const untangle::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return static_cast<int>(e.code());

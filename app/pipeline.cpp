@@ -14,6 +14,8 @@
 #include "untangle/read_meshes.h"
 #include "untangle/write_meshes.h"
 
+#include "output_plan.h"
+
 namespace untangle::app {
 
 double ms_since(std::chrono::steady_clock::time_point start) {
@@ -40,8 +42,9 @@ namespace {
   throw Error(ExitCode::kOutputNotWritten, path, why);
 }
 
-// Output paths, checked before any work: one per movable input, never an input, never an
-// existing file without --overwrite, in an existing folder, in a format we can write.
+// Output paths, checked before any work: one per movable input, in a format we can write, and
+// (check_written_files) never a file read or written otherwise, never an existing file without
+// --overwrite, in a writable folder.
 std::vector<std::string> plan_outputs(const CommonOptions& o) {
   namespace fs = std::filesystem;
   std::vector<std::string> outputs = o.outputs;
@@ -53,24 +56,10 @@ std::vector<std::string> plan_outputs(const CommonOptions& o) {
                           "fix needs one -o per movable input (" + std::to_string(o.inputs.size()) +
                               " inputs, " + std::to_string(outputs.size()) + " outputs) or --output-dir");
   }
-  auto same_file = [](const std::string& a, const std::string& b) {
-    std::error_code ec;
-    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
-  };
   for (std::size_t k = 0; k < outputs.size(); ++k) {
     const std::string& out = outputs[k];
-    std::vector<std::string> all_inputs = o.inputs;
-    all_inputs.insert(all_inputs.end(), o.obstacles.begin(), o.obstacles.end());
-    for (const std::string& in : all_inputs)
-      if (same_file(out, in)) refuse(out, "is an input; untangle never overwrites its inputs");
-    for (std::size_t j = 0; j < k; ++j)
-      if (same_file(out, outputs[j])) refuse(out, "named twice as output");
-    const fs::path parent = fs::path(out).has_parent_path() ? fs::path(out).parent_path() : fs::path(".");
-    std::error_code ec;
-    if (!fs::is_directory(parent, ec)) refuse(out, "folder " + parent.string() + " does not exist");
-    if (fs::exists(out, ec) && !o.overwrite) refuse(out, "exists; pass --overwrite to replace it");
-    if (!can_write(out)) refuse(out, "no writer for this file extension");
+    if (out == "-") refuse(out, "meshes are written to files, not to stdout");
+    if (!can_write(out)) refuse(out, "no writer for this file extension (`untangle formats` lists those it writes)");
     auto ext = [](const std::string& p) {
       std::string e = fs::path(p).extension().string();
       for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -86,6 +75,8 @@ std::vector<std::string> plan_outputs(const CommonOptions& o) {
         refuse(out, "OFF is written only from a plain OFF input (its lines are kept as they are)");
     }
   }
+  // Outputs, their side files, --report and --contours against every file read and each other.
+  check_written_files(o, outputs);
   return outputs;
 }
 

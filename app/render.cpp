@@ -150,6 +150,10 @@ std::string plan_preview(const std::string& dir, const CommonOptions& o) {
   check_output(path, all_inputs(o.inputs, o.obstacles), o.overwrite);
   for (const std::string& out : o.outputs)
     if (same_file(out, path)) refuse(path, "named as both output and preview");
+  for (const std::string& other : {o.report, o.contours})
+    if (!other.empty() && other != "-" && same_file(other, path))
+      refuse(path, "named as both " + std::string(other == o.report ? "--report" : "--contours") +
+                       " and the preview");
   return path;
 }
 

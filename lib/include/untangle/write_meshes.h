@@ -21,6 +21,12 @@ void write_meshes(const std::string& input, const std::string& output,
 // rounding for formats exported by assimp.
 std::function<Vec3(const Vec3&)> output_rounding(const std::string& output);
 
+// The files that writing `input` to `output` creates besides `output`, in its folder: the `.mtl`
+// of an OBJ exported by assimp (an OBJ input is rewritten and writes none), the `.bin` buffer of
+// a `.gltf`. A file the exporter makes beyond these never replaces an existing file
+// (write_meshes throws instead), so that a caller that checked these paths loses nothing.
+std::vector<std::string> side_files_of_output(const std::string& input, const std::string& output);
+
 // Whether `output`'s extension names a format untangle can write.
 bool can_write(const std::string& output);
 

@@ -5,6 +5,7 @@
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <charconv>
@@ -13,7 +14,9 @@
 #include <random>
 #include <sstream>
 
+#include "io/deterministic_export.h"
 #include "io/read_off.h"
+#include "io/verified_exports.h"
 #include "io/write_off.h"
 #include "untangle/error.h"
 
@@ -164,12 +167,15 @@ void write_with_assimp(const std::string& input, const std::string& output,
   Assimp::Exporter exporter;
   const std::string format = export_format(exporter, extension_of(output), input);
   if (format.empty()) fail(output, "no writer for the format ." + extension_of(output));
+  // The importer owns the scene; only unnamed nodes get a name (X names them by pointer).
+  prepare_deterministic_export(format, *const_cast<aiScene*>(scene));
   if (exporter.Export(scene, format, output) != AI_SUCCESS) {
     std::string why = exporter.GetErrorString();
     for (char& c : why)
       if (c == '\n') c = ' ';
     fail(output, "export failed: " + why);
   }
+  finish_deterministic_export(format, output, fs::path(output).filename().string());
 }
 
 }  // namespace
@@ -177,8 +183,19 @@ void write_with_assimp(const std::string& input, const std::string& output,
 bool can_write(const std::string& output) {
   const std::string ext = extension_of(output);
   if (ext == "obj" || ext == "off") return true;
+  if (!is_verified_export(ext)) return false;
   Assimp::Exporter exporter;
   return !export_format(exporter, ext).empty();
+}
+
+std::vector<std::string> side_files_of_output(const std::string& input, const std::string& output) {
+  const fs::path target(output);
+  const std::string stem = target.stem().string();
+  const std::string ext = extension_of(output);
+  std::vector<std::string> side;
+  if (ext == "obj" && extension_of(input) != "obj") side.push_back((target.parent_path() / (stem + ".mtl")).string());
+  if (ext == "gltf") side.push_back((target.parent_path() / (stem + ".bin")).string());
+  return side;
 }
 
 std::function<Vec3(const Vec3&)> output_rounding(const std::string& output) {
@@ -226,8 +243,22 @@ void write_meshes(const std::string& input, const std::string& output,
   } else {
     write_with_assimp(input, staged.string(), meshes);
   }
-  for (const auto& entry : fs::directory_iterator(temp)) {
-    fs::rename(entry.path(), folder / entry.path().filename(), ec);
+  // Every staged file is checked before the first one is moved: a file the exporter made that
+  // the caller could not foresee (side_files_of_output) never replaces an existing one.
+  std::vector<fs::path> staged_files;
+  for (const auto& entry : fs::directory_iterator(temp)) staged_files.push_back(entry.path());
+  std::sort(staged_files.begin(), staged_files.end());
+  const std::vector<std::string> side = side_files_of_output(input, output);
+  for (const fs::path& file : staged_files) {
+    const fs::path destination = folder / file.filename();
+    if (file.filename() == target.filename()) continue;
+    bool foreseen = false;
+    for (const std::string& s : side) foreseen = foreseen || fs::path(s).filename() == file.filename();
+    if (!foreseen && fs::exists(fs::symlink_status(destination, ec)))
+      fail(output, "the writer also made " + destination.string() + ", which exists; nothing was replaced");
+  }
+  for (const fs::path& file : staged_files) {
+    fs::rename(file, folder / file.filename(), ec);
     if (ec) fail(output, "cannot move the written file into place: " + ec.message());
   }
 }

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "untangle/error.h"
+#include "untangle/version.h"
 
 namespace untangle {
 namespace {
@@ -74,6 +75,7 @@ Json contour_json(const Contour& c) {
 std::string info_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos) {
   Json j;
   j["schema_version"] = kReportSchemaVersion;
+  j["untangle_version"] = untangle_version();
   j["command"] = "info";
   Json list = Json::array();
   for (std::size_t i = 0; i < meshes.size(); ++i) {
@@ -99,6 +101,7 @@ std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector
                               const Intersections& found, const CheckTimingsMs& timings) {
   Json j;
   j["schema_version"] = kReportSchemaVersion;
+  j["untangle_version"] = untangle_version();
   j["command"] = "check";
   j["status"] = found.counts.crossings == 0 ? "clean" : "intersecting";
   Json list = Json::array();
@@ -123,6 +126,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
                             const FixTimingsMs& timings) {
   Json j;
   j["schema_version"] = kReportSchemaVersion;
+  j["untangle_version"] = untangle_version();
   j["command"] = "fix";
   j["status"] = verified.counts.crossings == 0 ? "clean" : "unresolved";
   Json list = Json::array();

@@ -7,6 +7,8 @@
 
 namespace untangle {
 
+std::string untangle_version() { return UNTANGLE_VERSION; }
+
 std::string version_text() {
   std::string text = std::string("untangle ") + UNTANGLE_VERSION + "\n";
   text += std::string("CGAL ") + CGAL_VERSION_STR + "\n";
