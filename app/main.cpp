@@ -379,6 +379,9 @@ int main(int argc, char** argv) {
                            default_is(simulate_options.threads))
       ->check(CLI::NonNegativeNumber)
       ->option_text("N");
+  simulate->add_option("--preview", simulate_options.preview,
+                       "Write DIR/frame_<frame>.png per saved frame and DIR/contact_sheet.png")
+      ->option_text("DIR");
   simulate->add_flag("--overwrite", simulate_options.overwrite,
                      "Replace frame files and the report left by an earlier run");
   simulate->add_flag("-q,--quiet", simulate_options.quiet, "Print nothing but errors");

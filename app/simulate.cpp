@@ -19,6 +19,7 @@
 #include "untangle/error.h"
 #include "untangle/intersections.h"
 #include "untangle/read_meshes.h"
+#include "untangle/render.h"
 #include "untangle/report.h"
 #include "untangle/write_meshes.h"
 
@@ -256,6 +257,27 @@ int run_simulate(const SimulateOptions& o) {
     if (f % o.save_every == 0 || f == frames)
       for (const SceneInput& input : inputs)
         if (input.role == Role::kMovable) planned.push_back(frame_path(dir, input.stem, f));
+  // Pictures: a PNG per saved frame and a contact sheet of up to six of them.
+  std::vector<int> saved;
+  for (int f = 1; f <= frames; ++f)
+    if (f % o.save_every == 0 || f == frames) saved.push_back(f);
+  std::vector<int> sheet_frames;
+  if (!o.preview.empty()) {
+    if (!fs::is_directory(o.preview))
+      throw Error(ExitCode::kOutputNotWritten, o.preview, "--preview: folder does not exist");
+    for (int f : saved)
+      planned.push_back(frame_path(o.preview, "frame", f)
+                            .replace(frame_path(o.preview, "frame", f).size() - 4, 4, ".png"));
+    planned.push_back((fs::path(o.preview) / "contact_sheet.png").string());
+    const std::size_t count = std::min<std::size_t>(6, saved.size());
+    for (std::size_t k = 0; k < count; ++k)
+      sheet_frames.push_back(saved[(k + 1) * saved.size() / count - 1]);
+  }
+  if (!o.report.empty() && o.report != "-") planned.push_back(o.report);
+  for (std::size_t a = 0; a < planned.size(); ++a)
+    for (std::size_t b = a + 1; b < planned.size(); ++b)
+      if (fs::weakly_canonical(planned[a]) == fs::weakly_canonical(planned[b]))
+        throw Error(ExitCode::kOutputNotWritten, planned[b], "is written twice by this run");
   for (const std::string& path : planned)
     for (const SceneInput& input : inputs)
       if (!example && fs::exists(path) && fs::equivalent(path, input.path))
@@ -265,8 +287,6 @@ int run_simulate(const SimulateOptions& o) {
     for (const std::string& path : planned)
       if (fs::exists(path))
         throw Error(ExitCode::kOutputNotWritten, path, "exists (use --overwrite to replace it)");
-  if (!o.report.empty() && o.report != "-" && fs::exists(o.report) && !o.overwrite)
-    throw Error(ExitCode::kOutputNotWritten, o.report, "exists (use --overwrite to replace it)");
 
   if (example)
     for (const SceneInput& input : inputs)
@@ -291,6 +311,10 @@ int run_simulate(const SimulateOptions& o) {
                        {"friction", c.friction},
                        {"clearance", c.fix.clearance}};
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  const std::vector<Mesh> start_meshes = scene.meshes;
+  RenderCamera camera;
+  bool camera_set = false;
+  RgbImage sheet;
   Simulation sim(std::move(scene));
   const bool progress = !o.quiet && isatty(STDERR_FILENO);
   std::size_t bad_frames = 0;
@@ -325,12 +349,31 @@ int run_simulate(const SimulateOptions& o) {
       const std::size_t crossings = find_intersections(written, detect).counts.crossings;
       row["written_crossings"] = crossings;
       if (crossings > 0) ++bad_frames;
+      if (!o.preview.empty()) {
+        // One camera for the whole run, fitted to the start.
+        if (!camera_set) {
+          camera = fit_camera({&start_meshes}, RenderView::kFront, 400, 400);
+          camera_set = true;
+        }
+        RenderMarks marks;
+        marks.legend = {"frame " + std::to_string(f) + ": " + std::to_string(crossings) +
+                        " crossings"};
+        const RgbImage image = render_meshes(written, camera, marks, o.threads);
+        std::string png = frame_path(o.preview, "frame", f);
+        png.replace(png.size() - 4, 4, ".png");
+        write_text_file_atomically(png, encode_png(image));
+        if (std::find(sheet_frames.begin(), sheet_frames.end(), f) != sheet_frames.end())
+          sheet = sheet.width == 0 ? image : side_by_side(sheet, image);
+      }
     }
     row["timing_ms"] = {{"integrate", r.integrate_ms}, {"correct", r.correct_ms}};
     rows.push_back(row);
     if (progress) std::fprintf(stderr, "\rframe %d of %d", f, frames);
   }
   if (progress) std::fprintf(stderr, "\n");
+  if (!o.preview.empty() && sheet.width > 0)
+    write_text_file_atomically((fs::path(o.preview) / "contact_sheet.png").string(),
+                               encode_png(sheet));
   report["frames"] = rows;
   report["status"] = bad_frames == 0 ? "clean" : "unresolved";
   report["frames_with_crossings"] = bad_frames;

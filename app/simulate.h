@@ -18,6 +18,7 @@ struct SimulateOptions {
   bool frames_given = false;  // --frames was given: it wins over the scene file's
   int save_every = 1;  // write every K-th frame (and the last)
   std::string report;  // JSON report, '-' = stdout
+  std::string preview;  // DIR for a PNG per saved frame and a contact sheet (empty: none)
   int threads = FixOptions{}.threads;
   bool overwrite = false;  // replace frame files left by an earlier run
   bool quiet = false;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <nlohmann/json.hpp>
 
@@ -158,6 +159,15 @@ TEST(SimulateCli, WritesCheckedFramesAndAReport) {
   EXPECT_NE(start, last) << "the sheet did not move";
   EXPECT_EQ(without_v(start), without_v(last)) << "more than positions changed";
   EXPECT_FALSE(testing::read_text(out + "/sheet_0006.obj").empty());
+  // Pictures: one per saved frame and a contact sheet, PNG files.
+  const std::string pictures = dir.file("pictures");
+  std::filesystem::create_directories(pictures);
+  const testing::RunResult drawn =
+      testing::run_cli("simulate --example box --frames 4 --save-every 2 -q --output-dir " +
+                       testing::quote(dir.file("f2")) + " --preview " + testing::quote(pictures));
+  ASSERT_EQ(drawn.exit_code, 0) << drawn.err;
+  for (const char* name : {"/frame_0002.png", "/frame_0004.png", "/contact_sheet.png"})
+    EXPECT_EQ(testing::read_text(pictures + name).substr(1, 3), "PNG") << name;
   const testing::RunResult again =
       testing::run_cli("simulate --example box --frames 12 --output-dir " + testing::quote(out));
   EXPECT_EQ(again.exit_code, 4) << again.err;
