@@ -40,6 +40,8 @@ struct ClothOptions {
   // (restitution; 0: the cloth lands without bouncing).
   double friction = 0.3;
   double restitution = 0.0;
+  // Largest distance a particle may travel in one step, in mean edge lengths of the cloth at rest.
+  double max_speed = 0.5;
   // Whether the repair corrects every step. Off is for showing what the correction does.
   bool correct = true;
   // The repair run after every step (its clearance keeps the next step out of contact).

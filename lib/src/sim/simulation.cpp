@@ -17,6 +17,7 @@ struct Simulation::State {
   std::vector<std::vector<Vec3>> obstacle_rest;  // per mesh: positions at frame 0 (obstacles)
   int frame = 0;
   double h = 0.0;
+  double mean_edge = 0.0;  // of the cloth at rest
 };
 
 namespace {
@@ -40,6 +41,7 @@ void check_options(const ClothOptions& o) {
   if (!(o.density > 0.0) || !std::isfinite(o.density)) bad("density must be positive");
   if (!(o.friction >= 0.0 && o.friction <= 1.0)) bad("friction must be in [0, 1]");
   if (!(o.restitution >= 0.0 && o.restitution <= 1.0)) bad("restitution must be in [0, 1]");
+  if (!(o.max_speed > 0.0) || !std::isfinite(o.max_speed)) bad("max_speed must be positive");
   for (double g : o.gravity)
     if (!std::isfinite(g)) bad("gravity must be finite");
 }
@@ -75,6 +77,11 @@ Simulation::Simulation(SimulationScene scene) : state_(std::make_unique<State>()
   s.h = s.scene.options.time_step / s.scene.options.substeps;
   build_cloth_model(s.scene.meshes, s.scene.pins, s.scene.options, s.h, s.model);
   s.x = s.model.topo.points;
+  for (const ClothModel::Spring& sp : s.model.springs)
+    if (sp.stretch) s.mean_edge += sp.rest;
+  std::size_t edges = 0;
+  for (const ClothModel::Spring& sp : s.model.springs) edges += sp.stretch ? 1 : 0;
+  if (edges > 0) s.mean_edge /= static_cast<double>(edges);
   s.v.assign(s.x.size(), Vec3{0.0, 0.0, 0.0});
   s.obstacle_rest.resize(s.scene.meshes.size());
   for (std::size_t m = 0; m < s.scene.meshes.size(); ++m)
@@ -140,7 +147,11 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
         vel = sub(vel, scale(tangential, o.friction));
         vel = add(vel, scale(d, o.restitution / s.h));
       }
-      s.v[i] = vel;
+      // A particle never leaves a step faster than max_speed edge lengths per step: the stiff
+      // edge terms turn a correction's stretch into velocity, which flung the cloth off the
+      // spikes' tips.
+      const double speed = norm(vel), cap = o.max_speed * s.mean_edge / s.h;
+      s.v[i] = speed > cap ? scale(vel, cap / speed) : vel;
     }
   }
   ++s.frame;
