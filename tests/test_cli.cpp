@@ -75,7 +75,7 @@ TEST(Cli, CheckExitCodesAndReport) {
                            " --report - --contours " + quote(dir.file("c.obj")));
   EXPECT_EQ(hit.exit_code, 5) << hit.err;
   const nlohmann::json report = nlohmann::json::parse(hit.out);  // stdout carries only JSON
-  EXPECT_EQ(report["schema_version"], 1);
+  EXPECT_EQ(report["schema_version"], 2);
   EXPECT_EQ(report["command"], "check");
   EXPECT_EQ(report["status"], "intersecting");
   ASSERT_EQ(report["meshes"].size(), 2u);
