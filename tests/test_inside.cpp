@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "cgal_reference.h"
@@ -113,6 +114,23 @@ Intersections detect(const std::vector<Mesh>& meshes) {
   DetectOptions options;
   options.skip_obstacle_pairs = true;
   return find_intersections(meshes, options);
+}
+
+// An obstacle stored inside out (every face wound the other way) has the same inside, and the
+// count is the same at any thread count.
+TEST(Inside, InsideOutObstacleIsReadTurned) {
+  const Mesh sheet =
+      scenes::grid_sheet(41, 41, {-1.5013, -1.4987, 0.0137}, {3.0, 0, 0}, {0, 3.0, 0}, "sheet");
+  Mesh body = scenes::uv_sphere({0.0, 0.0, 0.0}, 1.0, 48, 24, "sphere");
+  body.role = Role::kObstacle;
+  Mesh flipped = body;
+  for (Triangle& t : flipped.triangles) std::swap(t[1], t[2]);
+  DetectOptions one;
+  one.threads = 1;
+  const std::size_t expected = ray_inside(sheet, body);
+  EXPECT_GT(expected, 100u);
+  EXPECT_EQ(find_intersections({sheet, body}, one).counts.inside_vertices, expected);
+  EXPECT_EQ(find_intersections({sheet, flipped}).counts.inside_vertices, expected);
 }
 
 // Required of every repair here: the result detected again has no crossing, no vertex inside by
