@@ -47,7 +47,8 @@ constexpr const char* kExitCodes =
     "     NaN or infinite coordinates, face indices out of range; bench: a --data\n"
     "     folder without garment/body pairs)\n"
     "  4  output not written\n"
-    "  5  intersections found (check) or remaining in the written output (fix)\n";
+    "  5  intersections or vertices inside an obstacle found (check) or remaining in the written\n"
+    "     output (fix)\n";
 
 // " (default X)" for a help text, X read from the options struct that holds the default: a default
 // is written in one place only (FixOptions, DetectOptions, BenchOptions).
@@ -151,7 +152,7 @@ int run_check(const CommonOptions& o) {
   timings.total = ms_since(start);
 
   const auto& c = found.counts;
-  const bool clean = c.crossings == 0;
+  const bool clean = c.crossings == 0 && c.inside_vertices == 0;
   if (!o.quiet && !stdout_is_data(o)) {
     const std::vector<std::string> labels = labels_of(meshes);
     if (o.verbose) {
@@ -163,6 +164,8 @@ int run_check(const CommonOptions& o) {
     }
     std::printf("crossings %zu, intersecting triangle pairs %zu, contours %zu (length %.6g)\n",
                 c.crossings, c.triangle_pairs, c.contours, c.contour_length);
+    if (c.inside_vertices > 0)
+      std::printf("vertices inside obstacles %zu (winding number > 1/2)\n", c.inside_vertices);
     if (c.contours > 0) {
       std::printf("pairs: CL/CL %zu, BB/II %zu, BI/BI %zu, self %zu, other %zu; "
                   "loop vertices %zu, non-separating tracks %zu\n",
@@ -203,11 +206,13 @@ int run_fix(const CommonOptions& o, const std::string& preview_dir) {
   const untangle::Intersections& verified = run.verified;
 
   emit_report(o.contours, untangle::contours_obj(verified));
-  const bool clean = verified.counts.crossings == 0;
+  const bool clean = verified.counts.crossings == 0 && verified.counts.inside_vertices == 0;
   if (show) {
-    std::printf("before: %zu crossings, %zu contours; after %d iterations: %zu crossings, %zu contours\n",
-                result.before.crossings, result.before.contours, result.iterations,
-                verified.counts.crossings, verified.counts.contours);
+    std::printf("before: %zu crossings, %zu contours, %zu inside; after %d iterations: %zu crossings, "
+                "%zu contours, %zu inside\n",
+                result.before.crossings, result.before.contours, result.before.inside_vertices,
+                result.iterations, verified.counts.crossings, verified.counts.contours,
+                verified.counts.inside_vertices);
     std::printf("moved %zu vertices, max %.6g (%.3g mean edge lengths), mean %.6g\n",
                 result.displacement.moved_vertices, result.displacement.max,
                 result.displacement.max_over_mean_edge, result.displacement.mean);

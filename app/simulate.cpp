@@ -347,9 +347,11 @@ int run_simulate(const SimulateOptions& o) {
       DetectOptions detect;
       detect.threads = o.threads;
       detect.skip_obstacle_pairs = true;
-      const std::size_t crossings = find_intersections(written, detect).counts.crossings;
+      const IntersectionCounts found = find_intersections(written, detect).counts;
+      const std::size_t crossings = found.crossings;
       row["written_crossings"] = crossings;
-      if (crossings > 0) ++bad_frames;
+      row["written_inside_vertices"] = found.inside_vertices;
+      if (crossings > 0 || found.inside_vertices > 0) ++bad_frames;
       if (!o.preview.empty()) {
         // One camera for the whole run, fitted to the start.
         if (!camera_set) {

@@ -66,8 +66,20 @@ struct DisplacementStats {
   std::size_t moved_vertices = 0;   // input vertices whose position changed
 };
 
+// How much the repair changed one movable mesh's shape, against the input positions (welded
+// vertices and their edges and triangles; all 0 for an obstacle or an unmoved mesh).
+struct QualityStats {
+  // |length / input length - 1| over the edges of nonzero input length: mean, 95th percentile
+  // (nearest rank), max.
+  double edge_change_mean = 0.0, edge_change_p95 = 0.0, edge_change_max = 0.0;
+  std::size_t flipped_faces = 0;  // triangles whose normal turned by more than 90 degrees
+  double max_displacement = 0.0;  // scene units
+  double max_displacement_over_mean_edge = 0.0;  // in the mesh's mean input edge lengths
+};
+
 struct FixResult {
-  bool clean = false;  // no crossing left on the final positions
+  // No crossing and no movable vertex inside an obstacle on the final positions.
+  bool clean = false;
   bool stalled = false;
   int iterations = 0;
   IntersectionCounts before;
@@ -76,7 +88,8 @@ struct FixResult {
   IntersectionCounts after;
   std::vector<IterationRecord> history;
   DisplacementStats displacement;
-  std::size_t illegal_regions_by_inside = 0;  // regions decided by a closed obstacle's inside
+  std::vector<QualityStats> quality;  // per mesh, in input order
+  std::size_t illegal_regions_by_inside = 0;  // regions decided by an obstacle's inside
   std::size_t illegal_regions_by_area = 0;    // regions decided by "small is illegal"
   // Triangle pairs of the closed obstacles that cross (an obstacle through itself, as the cow's
   // tail through its rump, or two closed obstacle parts through each other), each pair once. They

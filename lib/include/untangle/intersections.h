@@ -69,6 +69,12 @@ struct IntersectionCounts {
   // Contours whose walk failed (a crossing link without partner). Always 0 unless the 0-or-2
   // crossings property is violated, i.e. a bug; the property tests assert it.
   std::size_t broken = 0;
+  // Welded vertices of movable meshes inside an obstacle mesh: where its generalized winding
+  // number (Jacobson et al. 2013) exceeds 1/2, for closed and open obstacles alike (DESIGN §4).
+  // They are illegal even where nothing crosses (a garment wholly inside a body). In total and per
+  // mesh, in input order (0 for obstacles); all 0 in a scene without obstacles.
+  std::size_t inside_vertices = 0;
+  std::vector<std::size_t> inside_by_mesh;
 };
 
 struct Intersections {

@@ -11,7 +11,10 @@
 
 namespace untangle {
 
-inline constexpr int kReportSchemaVersion = 2;
+// 3: untangle_version in every report (2 in the branch that added it), inside_vertices and
+// inside_by_mesh in every counts object, quality in the fix report, and a status that is clean
+// only with no vertex inside an obstacle.
+inline constexpr int kReportSchemaVersion = 3;
 
 struct CheckTimingsMs {
   double load = 0.0, detect = 0.0, contours = 0.0, total = 0.0;
@@ -23,7 +26,7 @@ std::string info_report_json(const std::vector<Mesh>& meshes, const std::vector<
 // The `check` report. Keys and their order are stable; only timing_ms varies between runs.
 // schema_version, command, status (clean | intersecting), meshes (path, name, role, vertices,
 // faces, boundary_loops), before (crossings, triangle_pairs, contours, contour_length, tracks,
-// pairs, loop_vertices, non_separating, branch_points), contours (meshes, types, closed, self,
+// pairs, loop_vertices, non_separating, branch_points, inside_vertices, inside_by_mesh), contours (meshes, types, closed, self,
 // crossings, length, loop_vertices, separates, smaller_area, cut_edges), timing_ms.
 std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
                               const Intersections& found, const CheckTimingsMs& timings);
@@ -36,7 +39,9 @@ struct FixTimingsMs {
 // The `fix` report: the check keys (status is clean | unresolved; `before` as detected on the
 // input, `after` and `contours` as detected on the files written), plus method, iterations,
 // stalled, outputs, history (iteration, crossings, contour_length, elapsed_ms), displacement
-// (max, mean, max_over_mean_edge, moved_vertices), regions (by_inside, by_area), obstacles
+// (max, mean, max_over_mean_edge, moved_vertices), quality (per movable mesh: mesh,
+// edge_change_mean, edge_change_p95, edge_change_max, flipped_faces, max_displacement,
+// max_displacement_over_mean_edge), regions (by_inside, by_area), obstacles
 // (crossing_pairs: FixResult::obstacle_crossing_pairs) and timing_ms (load, detect, contours,
 // resolve, write, verify, total).
 std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,

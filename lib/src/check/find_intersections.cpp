@@ -7,6 +7,7 @@
 #include "contour/build_contours.h"
 #include "detect/detect_crossings.h"
 #include "detect/run_parallel.h"
+#include "resolve/inside_vertices.h"
 #include "topology/scene_topology.h"
 
 namespace untangle {
@@ -48,6 +49,14 @@ Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOp
     }
   });
   add_contours(traced, result, options.separation);
+  // Movable vertices inside the obstacles, on the positions as given (the verdict of `fix` is
+  // taken on the files written and read back).
+  std::vector<Role> role;
+  for (const Mesh& m : meshes) role.push_back(m.role);
+  std::vector<std::uint32_t> inside;
+  find_inside_vertices(topo, role, ObstacleWinding(topo, role), {}, options.threads, inside);
+  result.counts.inside_by_mesh = inside_per_mesh(topo, inside);
+  for (std::size_t n : result.counts.inside_by_mesh) result.counts.inside_vertices += n;
   const auto t2 = Clock::now();
   if (timings != nullptr) {
     timings->detect_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();

@@ -52,6 +52,8 @@ Json counts_json(const IntersectionCounts& c) {
   j["loop_vertices"] = c.loop_vertices;
   j["non_separating"] = c.non_separating;
   j["branch_points"] = c.branch_points;
+  j["inside_vertices"] = c.inside_vertices;
+  j["inside_by_mesh"] = c.inside_by_mesh;
   return j;
 }
 
@@ -103,7 +105,8 @@ std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector
   j["schema_version"] = kReportSchemaVersion;
   j["untangle_version"] = untangle_version();
   j["command"] = "check";
-  j["status"] = found.counts.crossings == 0 ? "clean" : "intersecting";
+  j["status"] =
+      found.counts.crossings == 0 && found.counts.inside_vertices == 0 ? "clean" : "intersecting";
   Json list = Json::array();
   for (std::size_t i = 0; i < meshes.size(); ++i) list.push_back(mesh_entry(meshes[i], infos[i]));
   j["meshes"] = list;
@@ -128,7 +131,9 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   j["schema_version"] = kReportSchemaVersion;
   j["untangle_version"] = untangle_version();
   j["command"] = "fix";
-  j["status"] = verified.counts.crossings == 0 ? "clean" : "unresolved";
+  j["status"] = verified.counts.crossings == 0 && verified.counts.inside_vertices == 0
+                    ? "clean"
+                    : "unresolved";
   Json list = Json::array();
   for (std::size_t i = 0; i < meshes.size(); ++i) list.push_back(mesh_entry(meshes[i], infos[i]));
   j["meshes"] = list;
@@ -160,6 +165,21 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   d["max_over_mean_edge"] = result.displacement.max_over_mean_edge;
   d["moved_vertices"] = result.displacement.moved_vertices;
   j["displacement"] = d;
+  Json quality = Json::array();
+  for (std::size_t m = 0; m < result.quality.size(); ++m) {
+    if (m >= meshes.size() || meshes[m].role != Role::kMovable) continue;
+    const QualityStats& q = result.quality[m];
+    Json e;
+    e["mesh"] = m;
+    e["edge_change_mean"] = q.edge_change_mean;
+    e["edge_change_p95"] = q.edge_change_p95;
+    e["edge_change_max"] = q.edge_change_max;
+    e["flipped_faces"] = q.flipped_faces;
+    e["max_displacement"] = q.max_displacement;
+    e["max_displacement_over_mean_edge"] = q.max_displacement_over_mean_edge;
+    quality.push_back(e);
+  }
+  j["quality"] = quality;
   Json regions;
   regions["by_inside"] = result.illegal_regions_by_inside;
   regions["by_area"] = result.illegal_regions_by_area;

@@ -67,6 +67,15 @@ std::vector<PartMoves> part_moves(const RepairContext& ctx, Scratch& scratch, st
 void move_regions(const RepairContext& ctx, Scratch& scratch, std::uint32_t mesh, int orientation,
                   const std::vector<std::uint32_t>& vertices, const MeshTree& tree, Moves& moves);
 
+// ---- inside_move.cpp: movable vertices inside an obstacle that no contour reaches ----
+
+// `inside` per welded vertex: the obstacle mesh it lies inside (find_inside_vertices) or kNone.
+// Free inside vertices not joined through inside vertices to a crossing, and not yet in a moving
+// set, are moved across the nearest component of that obstacle by move_regions.
+void inside_move(const RepairContext& ctx, Scratch& scratch, SurfaceTrees& trees,
+                 const CrossingSet& set, const std::vector<std::uint32_t>& inside,
+                 std::vector<std::uint8_t>& in_moving_set, Moves& moves);
+
 // ---- measured_move.cpp ----
 
 // Every connected part of every candidate with every move of part_moves, counted exactly: the one

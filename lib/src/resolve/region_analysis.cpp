@@ -5,6 +5,7 @@
 
 #include "detect/orientation.h"
 #include "geometry/vec3.h"
+#include "resolve/inside_vertices.h"
 
 namespace untangle {
 
@@ -95,7 +96,32 @@ RegionAnalysis analyse_regions(const SceneTopology& topo, const CrossingSet& set
           if (votes[r] > 0) region_label[r] = 1;
           else if (votes[r] < 0) region_label[r] = 0;
         }
-      } else {
+      }
+      // An open obstacle (holes at the eyes, limbs through each other) has an inside too: its
+      // winding number above 1/2. Each endpoint of a cut edge votes for its region, inside or
+      // not; where no endpoint is inside (a sheet-like obstacle) the area rule decides.
+      const bool by_winding = !by_inside && component != partner &&
+                              settings.outside_closed_obstacles && settings.obstacle[partner_mesh] &&
+                              settings.winding != nullptr;
+      if (by_winding) {
+        std::vector<int> votes(region_count, 0);
+        bool any_inside = false;
+        for (std::uint32_t e : odd) {
+          for (std::uint32_t v : topo.edges[e]) {
+            const bool in = settings.winding->winding(partner_mesh, topo.points[v]) > 0.5;
+            any_inside = any_inside || in;
+            votes[region[v - base]] += in ? 1 : -1;
+          }
+        }
+        if (any_inside) {
+          rule = RegionRule::kInside;
+          for (std::size_t r = 0; r < region_count; ++r) {
+            if (votes[r] > 0) region_label[r] = 1;
+            else if (votes[r] < 0) region_label[r] = 0;
+          }
+        }
+      }
+      if (!by_inside && rule == RegionRule::kArea) {
         // Two-colour the graph of regions joined by cut edges, starting from the largest region of
         // each connected part: crossing a cut flips legal and illegal. A region reached with both
         // colours (an odd cycle) stays as first coloured.

@@ -16,6 +16,10 @@
 #include "topology/scene_topology.h"
 
 namespace untangle {
+class ObstacleWinding;
+}
+
+namespace untangle {
 
 enum class RegionRule : std::uint8_t { kInside, kArea };
 
@@ -42,6 +46,8 @@ struct RegionSettings {
   bool outside_closed_obstacles = true;
   std::vector<bool> obstacle;    // per mesh
   std::vector<int> orientation;  // per component: +1 closed and outward, -1 inward, 0 not closed
+  // The obstacles' winding numbers: an open obstacle's inside decides too (none: area rule).
+  const ObstacleWinding* winding = nullptr;
 };
 
 // The component holding track k of a contour.

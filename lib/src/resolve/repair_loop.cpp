@@ -18,7 +18,9 @@
 #include "contour/build_contours.h"
 #include "detect/detect_crossings.h"
 #include "detect/triangle_bvh.h"
+#include "resolve/inside_vertices.h"
 #include "resolve/measured_move.h"
+#include "resolve/quality_stats.h"
 #include "resolve/move_kinds.h"
 #include "resolve/region_analysis.h"
 #include "resolve/scene_measures.h"
@@ -52,6 +54,7 @@ class RepairLoop {
         round_(round),
         topo_(build_topology(meshes)),
         measures_(measure_scene(topo_, meshes, pins, options.threads)),
+        winding_(topo_, measures_.role),
         trees_(topo_, measures_),
         measured_(topo_),
         scratch_(topo_.points.size()) {
@@ -63,6 +66,7 @@ class RepairLoop {
       region_settings_.obstacle.push_back(obstacle);
     }
     region_settings_.orientation = measures_.closed;
+    region_settings_.winding = &winding_;
     moved_.assign(topo_.points.size(), 0);
     start_points_ = topo_.points;
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, detect_.skip_among);
@@ -73,7 +77,7 @@ class RepairLoop {
     FixResult result;
     const auto start = Clock::now();
     result.obstacle_crossing_pairs = measures_.obstacle_crossing_pairs;
-    std::size_t best_crossings = static_cast<std::size_t>(-1);
+    std::size_t best_crossings = static_cast<std::size_t>(-1);  // and inside vertices
     double best_length = INFINITY;
     int since_best = 0;
     // After the first iteration only what moved is tested again (update_crossings), on per-mesh
@@ -88,11 +92,13 @@ class RepairLoop {
       if (!hierarchy) {
         set = detect_crossings(topo_, detect_);
         hierarchy = std::make_unique<SceneHierarchy>(topo_, detect_);
+        find_inside_vertices(topo_, measures_.role, winding_, {}, options_.threads, inside_);
       } else {
         for (std::size_t v = 0; v < changed.size(); ++v)
           changed[v] = topo_.points[v] != before_step[v] ? 1 : 0;
         hierarchy->update(topo_, changed);
         set = update_crossings(topo_, detect_, *hierarchy, set, changed);
+        find_inside_vertices(topo_, measures_.role, winding_, changed, options_.threads, inside_);
       }
       const auto t1 = Clock::now();
       const std::vector<TracedContour> traced = build_contours(topo_, set);
@@ -100,6 +106,11 @@ class RepairLoop {
       result.detect_ms += ms(t0, t1);
       result.contours_ms += ms(t1, t2);
       counts = summarize(topo_, set, traced).counts;
+      counts.inside_by_mesh = inside_per_mesh(topo_, inside_);
+      for (std::size_t n : counts.inside_by_mesh) counts.inside_vertices += n;
+      // A vertex inside an obstacle counts like a crossing (DESIGN §4): the best state has the
+      // fewest of both together, then the shortest contours.
+      const std::size_t illegal = counts.crossings + counts.inside_vertices;
       if (iteration == 0) result.before = counts;
       IterationRecord record;
       record.iteration = iteration;
@@ -110,17 +121,17 @@ class RepairLoop {
       result.history.push_back(record);
       result.iterations = iteration;
       if (progress && !progress(record)) break;
-      if (set.items.empty()) {
+      if (set.items.empty() && counts.inside_vertices == 0) {
         result.clean = true;
         break;
       }
-      if (counts.crossings < best_crossings ||
-          (counts.crossings == best_crossings && counts.contour_length < best_length)) {
+      if (illegal < best_crossings ||
+          (illegal == best_crossings && counts.contour_length < best_length)) {
         best_points_ = topo_.points;  // the state written if the run ends unresolved
         best_counts_ = counts;
       }
-      if (counts.crossings < best_crossings || counts.contour_length < best_length * (1.0 - 1e-3)) {
-        best_crossings = std::min(best_crossings, counts.crossings);
+      if (illegal < best_crossings || counts.contour_length < best_length * (1.0 - 1e-3)) {
+        best_crossings = std::min(best_crossings, illegal);
         best_length = std::min(best_length, counts.contour_length);
         since_best = 0;
       } else if (++since_best >= options_.stall_iterations) {
@@ -147,7 +158,8 @@ class RepairLoop {
       counts = best_counts_;
     }
     result.after = counts;
-    result.clean = counts.crossings == 0;
+    result.clean = counts.crossings == 0 && counts.inside_vertices == 0;
+    result.quality = quality_stats(topo_, start_points_, measures_);
     write_back(result);
     return result;
   }
@@ -208,14 +220,18 @@ class RepairLoop {
     }
 
     std::vector<std::uint8_t> in_moving_set(topo_.points.size(), 0);
+    FreshTrees trees;  // movable partners, this step
     if (region) {
-      FreshTrees trees;  // movable partners, this step
       for (const IllegalSet* s : moving) {
         const MeshTree& tree = trees_.component_tree(s->partner, trees);
         for (std::uint32_t v : s->vertices) in_moving_set[v] = 1;
         move_regions(ctx, scratch_, topo_.component_mesh[s->component],
                      measures_.closed[s->partner], s->vertices, tree, moves);
       }
+    }
+    // Inside an obstacle with no contour to move it (either method).
+    inside_move(ctx, scratch_, trees_, set, inside_, in_moving_set, moves);
+    if (region) {
       for (const TracedContour& t : traced)
         self_contour_move(ctx, tools, set, t, analysis, in_moving_set, moves);
       separate_coincident_layers(ctx, trees_, set, traced, parallel, layered, layer_orders_,
@@ -287,6 +303,8 @@ class RepairLoop {
   Rounding round_;
   SceneTopology topo_;
   SceneMeasures measures_;
+  ObstacleWinding winding_;  // the obstacles never move: built once
+  std::vector<std::uint32_t> inside_;  // per welded vertex: the obstacle it is inside, or kNone
   DetectSettings detect_;
   RegionSettings region_settings_;
   std::unique_ptr<TriangleBvh> obstacle_bvh_;  // the obstacles never move: built once

@@ -1,0 +1,46 @@
+// The generalized winding number of a triangle soup (Jacobson, Kavan and Sorkine-Hornung 2013),
+// evaluated on a hierarchy with the far-field dipole approximation of Barill et al. 2018.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "untangle/mesh.h"
+
+namespace untangle {
+
+// w(p) = (1/4π) Σ Ω_t(p), the solid angles of the triangles seen from p, signed by their winding:
+// 1 inside a closed outward surface, 0 outside, 2 where two parts of it overlap; holes, open
+// boundaries, self-intersection and duplicated faces change it only near them. A node of the
+// hierarchy farther from p than kFarField times its radius is summed as one dipole (its
+// area-weighted normal at its area-weighted centre); nearer ones triangle by triangle. Doubles:
+// the result steers moves and labels, never decides a crossing. Immutable after construction, so
+// concurrent queries are safe; the value depends only on the triangles and p.
+class WindingNumber {
+ public:
+  static constexpr double kFarField = 2.0;
+
+  // The triangles `tris` of `points` (corners as indices), in the given order.
+  WindingNumber(const std::vector<Vec3>& points,
+                const std::vector<std::array<std::uint32_t, 3>>& tris);
+  double operator()(const Vec3& p) const;
+  // The signed volume the triangles enclose (negative for an inward surface).
+  double signed_volume() const { return volume_; }
+  bool empty() const { return tri_.empty(); }
+
+ private:
+  struct Node {
+    Vec3 centre{}, dipole{};  // area-weighted centroid, sum of the area vectors
+    double radius = 0.0;      // farthest corner from the centre
+    std::uint32_t begin = 0, end = 0;   // range of tri_
+    std::uint32_t left = 0, right = 0;  // children (0: a leaf)
+  };
+  std::uint32_t build(std::uint32_t begin, std::uint32_t end);
+
+  std::vector<std::array<Vec3, 3>> tri_;
+  std::vector<Node> nodes_;
+  double volume_ = 0.0;
+};
+
+}  // namespace untangle

@@ -1,0 +1,205 @@
+// Inside by generalized winding number (issue 20, DESIGN §4): movable vertices inside an
+// obstacle are illegal, closed or open obstacle alike, even where nothing crosses. Judged
+// independently of untangle by a signed ray cast (the sum of +1 exits and -1 entries along a ray,
+// which is the winding number of a closed mesh) and CGAL's Side_of_triangle_mesh.
+#include <gtest/gtest.h>
+
+#include <CGAL/Side_of_triangle_mesh.h>
+
+#include <cmath>
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+#include "cgal_reference.h"
+#include "scenes/scenes.h"
+#include "scenes/self_scenes.h"
+#include "untangle/fix.h"
+#include "untangle/intersections.h"
+
+namespace untangle {
+namespace {
+
+Vec3 sub3(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 cross3(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+// The winding number of a closed mesh at p by a ray: +1 for each face the ray leaves through
+// (outward normal along the ray), -1 for each it enters through (Moller-Trumbore).
+int ray_winding(const Mesh& mesh, const Vec3& p) {
+  const Vec3 d{0.8731, 0.3217, 0.2411};  // no special direction of the generated meshes
+  int w = 0;
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3& a = mesh.positions[t[0]];
+    const Vec3 e1 = sub3(mesh.positions[t[1]], a), e2 = sub3(mesh.positions[t[2]], a);
+    const Vec3 q = cross3(d, e2);
+    const double det = dot3(e1, q);
+    if (det == 0.0) continue;
+    const Vec3 s = sub3(p, a);
+    const double u = dot3(s, q) / det;
+    if (u < 0.0 || u > 1.0) continue;
+    const Vec3 r = cross3(s, e1);
+    const double v = dot3(d, r) / det;
+    if (v < 0.0 || u + v > 1.0) continue;
+    if (dot3(e2, r) / det <= 0.0) continue;
+    w += dot3(cross3(e1, e2), d) > 0.0 ? 1 : -1;
+  }
+  return w;
+}
+
+std::size_t ray_inside(const Mesh& movable, const Mesh& closed_body) {
+  std::size_t n = 0;
+  for (const Vec3& p : movable.positions) n += ray_winding(closed_body, p) > 0 ? 1 : 0;
+  return n;
+}
+
+std::size_t cgal_inside(const Mesh& movable, const Mesh& closed_body) {
+  const cgal_reference::ReferenceMesh ref = cgal_reference::to_reference_mesh(closed_body);
+  const CGAL::Side_of_triangle_mesh<cgal_reference::SurfaceMesh, cgal_reference::Kernel> side(
+      ref.mesh);
+  std::size_t n = 0;
+  for (const Vec3& p : movable.positions)
+    n += side(cgal_reference::Kernel::Point_3(p[0], p[1], p[2])) == CGAL::ON_BOUNDED_SIDE ? 1 : 0;
+  return n;
+}
+
+// `mesh` without the triangles whose centroid lies within `radius` of one of `centres` (holes).
+Mesh with_holes(Mesh mesh, const std::vector<Vec3>& centres, double radius) {
+  std::vector<Triangle> kept;
+  for (const Triangle& t : mesh.triangles) {
+    Vec3 c{0, 0, 0};
+    for (std::uint32_t v : t)
+      for (int k = 0; k < 3; ++k) c[k] += mesh.positions[v][k] / 3.0;
+    bool drop = false;
+    for (const Vec3& h : centres) drop = drop || std::sqrt(dot3(sub3(c, h), sub3(c, h))) < radius;
+    if (!drop) kept.push_back(t);
+  }
+  mesh.triangles = kept;
+  mesh.polygon.resize(kept.size());
+  for (std::uint32_t t = 0; t < kept.size(); ++t) mesh.polygon[t] = t;
+  mesh.source_faces = kept.size();
+  return mesh;
+}
+
+// The winding number agrees with the ray cast and with CGAL on the vertices of a sheet sweeping
+// through a closed sphere and a closed capsule, and with the ray cast on a self-intersecting
+// body where two capsules overlap (winding 2 there; parity would call it outside).
+TEST(Inside, WindingNumberAgreesWithRayCastAndCgal) {
+  const Mesh sheet =
+      scenes::grid_sheet(41, 41, {-1.5013, -1.4987, 0.0137}, {3.0, 0, 0}, {0, 3.0, 0}, "sheet");
+  std::vector<Mesh> bodies;
+  bodies.push_back(scenes::uv_sphere({0.0, 0.0, 0.0}, 1.0, 48, 24, "sphere"));
+  bodies.push_back(scenes::capsule({0.1, 0.0, 0.0}, 0.6, 1.5, 32, 6, "capsule"));
+  bodies.push_back(scenes::self_intersecting_obstacle(32));
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    Mesh body = bodies[b];
+    body.role = Role::kObstacle;
+    const Intersections found = find_intersections({sheet, body});
+    const std::size_t by_ray = ray_inside(sheet, body);
+    EXPECT_GT(by_ray, 100u) << body.name;
+    EXPECT_EQ(found.counts.inside_vertices, by_ray) << body.name;
+    ASSERT_EQ(found.counts.inside_by_mesh.size(), 2u);
+    EXPECT_EQ(found.counts.inside_by_mesh[0], by_ray);
+    EXPECT_EQ(found.counts.inside_by_mesh[1], 0u);
+    if (b < 2) {
+      EXPECT_EQ(cgal_inside(sheet, body), by_ray) << body.name;
+    }
+  }
+}
+
+// Obstacles are left out among themselves (the self-intersecting body crosses itself).
+Intersections detect(const std::vector<Mesh>& meshes) {
+  DetectOptions options;
+  options.skip_obstacle_pairs = true;
+  return find_intersections(meshes, options);
+}
+
+// An obstacle stored inside out (every face wound the other way) has the same inside, and the
+// count is the same at any thread count.
+TEST(Inside, InsideOutObstacleIsReadTurned) {
+  const Mesh sheet =
+      scenes::grid_sheet(41, 41, {-1.5013, -1.4987, 0.0137}, {3.0, 0, 0}, {0, 3.0, 0}, "sheet");
+  Mesh body = scenes::uv_sphere({0.0, 0.0, 0.0}, 1.0, 48, 24, "sphere");
+  body.role = Role::kObstacle;
+  Mesh flipped = body;
+  for (Triangle& t : flipped.triangles) std::swap(t[1], t[2]);
+  DetectOptions one;
+  one.threads = 1;
+  const std::size_t expected = ray_inside(sheet, body);
+  EXPECT_GT(expected, 100u);
+  EXPECT_EQ(find_intersections({sheet, body}, one).counts.inside_vertices, expected);
+  EXPECT_EQ(find_intersections({sheet, flipped}).counts.inside_vertices, expected);
+}
+
+// Required of every repair here: the result detected again has no crossing, no vertex inside by
+// winding number, and none inside by the independent check on `closed_body`.
+void expect_clean(const FixResult& result, const std::vector<Mesh>& meshes,
+                  const Mesh& closed_body) {
+  EXPECT_TRUE(result.clean);
+  EXPECT_EQ(result.after.inside_vertices, 0u);
+  const Intersections again = detect(meshes);
+  EXPECT_EQ(again.counts.crossings, 0u);
+  EXPECT_EQ(again.counts.inside_vertices, 0u);
+  EXPECT_EQ(ray_inside(meshes[0], closed_body), 0u);
+}
+
+// A sheet sunk wholly under the surface of a closed body: no crossing at all, so detection alone
+// calls it clean; every vertex is inside. The repair brings it out.
+TEST(Inside, GarmentWhollyInsideClosedBody) {
+  std::vector<Mesh> meshes;
+  meshes.push_back(
+      scenes::grid_sheet(13, 13, {-0.3013, -0.2987, 0.8}, {0.6, 0, 0}, {0, 0.6, 0}, "sheet"));
+  meshes.push_back(scenes::uv_sphere({0.0, 0.0, 0.0}, 1.0, 48, 24, "body"));
+  meshes[1].role = Role::kObstacle;
+  const Mesh body = meshes[1];
+  const Intersections before = detect(meshes);
+  EXPECT_EQ(before.counts.crossings, 0u);
+  EXPECT_EQ(before.counts.inside_vertices, meshes[0].positions.size());
+  EXPECT_EQ(cgal_inside(meshes[0], body), meshes[0].positions.size());
+
+  const FixResult result = fix_meshes(meshes, FixOptions{});
+  EXPECT_EQ(result.before.inside_vertices, meshes[0].positions.size());
+  expect_clean(result, meshes, body);
+  EXPECT_EQ(cgal_inside(meshes[0], body), 0u);
+}
+
+// The panel mostly inside a body (panel_in_body), the body open: a hole cut at its bottom pole, so
+// the
+// inside rule of closed obstacles does not apply and "the smaller side is illegal" would push the
+// panel's corners in. The winding number still says where inside is.
+TEST(Inside, PanelThroughOpenBody) {
+  const scenes::Scene scene = scenes::panel_in_body();
+  std::vector<Mesh> meshes = scenes::scene_meshes(scene);
+  const Mesh closed_body = meshes[1];
+  meshes[1] = with_holes(meshes[1], {{0.0, 0.0, -1.0}}, 0.15);
+  ASSERT_LT(meshes[1].triangles.size(), closed_body.triangles.size());
+  const Intersections before = detect(meshes);
+  EXPECT_GT(before.counts.crossings, 0u);
+  EXPECT_GT(before.counts.inside_vertices, meshes[0].positions.size() / 2);
+  EXPECT_EQ(before.counts.inside_vertices, ray_inside(meshes[0], closed_body));
+
+  const FixResult result = fix_meshes(meshes, FixOptions{});
+  expect_clean(result, meshes, closed_body);
+  EXPECT_GT(result.illegal_regions_by_inside, 0u);
+}
+
+// A sheet through a body that passes through itself (two capsules overlapping as one mesh).
+TEST(Inside, SheetThroughSelfIntersectingBody) {
+  std::vector<Mesh> meshes;
+  meshes.push_back(
+      scenes::grid_sheet(33, 33, {-1.6137, -1.5929, 0.3637}, {3.2, 0, 0}, {0, 3.2, 0}, "sheet"));
+  meshes.push_back(scenes::self_intersecting_obstacle(24));
+  meshes[1].role = Role::kObstacle;
+  const Mesh body = meshes[1];
+  const Intersections before = detect(meshes);
+  EXPECT_GT(before.counts.crossings, 0u);
+  EXPECT_EQ(before.counts.inside_vertices, ray_inside(meshes[0], body));
+
+  const FixResult result = fix_meshes(meshes, FixOptions{});
+  expect_clean(result, meshes, body);
+}
+
+}  // namespace
+}  // namespace untangle
