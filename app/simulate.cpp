@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -116,32 +117,27 @@ SimulationScene load_scene_file(const std::string& file, std::vector<SceneInput>
     const nlohmann::json& c = j["cloth"];
     if (!c.is_object()) bad_key(file, "cloth", "must be an object");
     ClothOptions& o = scene.options;
+    // Every number of ClothOptions by its name; substeps and solver_iterations are counts.
+    const std::map<std::string, double*> numbers = {
+        {"time_step", &o.time_step},     {"stretch", &o.stretch},    {"bend", &o.bend},
+        {"damping", &o.damping},         {"density", &o.density},    {"friction", &o.friction},
+        {"restitution", &o.restitution}, {"max_speed", &o.max_speed}};
+    const std::map<std::string, int*> counts = {{"substeps", &o.substeps},
+                                                {"solver_iterations", &o.solver_iterations}};
     for (const auto& [key, value] : c.items()) {
       const std::string name = "cloth." + key;
-      if (key == "gravity")
+      if (key == "gravity") {
         o.gravity = vec3(value, name);
-      else if (key == "time_step")
-        o.time_step = number(value, name);
-      else if (key == "substeps")
-        o.substeps = static_cast<int>(number(value, name));
-      else if (key == "solver_iterations")
-        o.solver_iterations = static_cast<int>(number(value, name));
-      else if (key == "stretch")
-        o.stretch = number(value, name);
-      else if (key == "bend")
-        o.bend = number(value, name);
-      else if (key == "damping")
-        o.damping = number(value, name);
-      else if (key == "density")
-        o.density = number(value, name);
-      else if (key == "friction")
-        o.friction = number(value, name);
-      else if (key == "restitution")
-        o.restitution = number(value, name);
-      else if (key == "max_speed")
-        o.max_speed = number(value, name);
-      else
+      } else if (const auto n = numbers.find(key); n != numbers.end()) {
+        *n->second = number(value, name);
+      } else if (const auto k = counts.find(key); k != counts.end()) {
+        const double count = number(value, name);
+        if (!(count >= 1.0 && count <= 1000.0) || count != std::floor(count))
+          bad_key(file, name, "must be an integer from 1 to 1000");
+        *k->second = static_cast<int>(count);
+      } else {
         bad_key(file, name, "unknown key");
+      }
     }
   }
   if (!j.contains("meshes") || !j["meshes"].is_array() || j["meshes"].empty())

@@ -11,7 +11,7 @@
 namespace untangle {
 
 void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
-                       const ClothOptions& options, double h, ClothModel& model) {
+                       const ClothOptions& options, ClothModel& model) {
   std::vector<Mesh> cloth;
   for (std::uint32_t m = 0; m < meshes.size(); ++m)
     if (meshes[m].role == Role::kMovable) {
@@ -55,6 +55,8 @@ void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
     model.springs.push_back({a, b, rest, weight, stretch});
   };
   for (const auto& e : topo.edges) add_spring(e[0], e[1], options.stretch, true);
+  for (const ClothModel::Spring& sp : model.springs) model.mean_edge += sp.rest;
+  if (!model.springs.empty()) model.mean_edge /= static_cast<double>(model.springs.size());
   if (options.bend > 0.0) {
     for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
       if (topo.edge_face_count(e) != 2) continue;
@@ -90,7 +92,6 @@ void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
   if (model.solver.info() != Eigen::Success)
     throw Error(ExitCode::kUnreadableInput, "", "the cloth's system matrix cannot be factored");
   model.factored = true;
-  (void)h;  // the weights are relative to the inertia of one step: h cancels out of the matrix
 }
 
 void integrate_step(const ClothModel& model, const ClothOptions& options, double h,

@@ -27,15 +27,16 @@ struct ClothModel {
   std::vector<std::uint8_t> pinned;       // per particle
   std::vector<std::uint32_t> unknown;     // per particle: index among the free ones, or kNone
   std::vector<Spring> springs;
+  double mean_edge = 0.0;  // mean rest length of the stretch springs (the cloth's edges)
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;  // M + sum w A^T A, free particles
   bool factored = false;
 };
 
-// Builds the model of the movable meshes of `meshes` (rest shape: their positions now) for steps
-// of `h` seconds. Throws Error(kUnreadableInput) when the cloth has no triangle or the matrix
-// cannot be factored.
+// Builds the model of the movable meshes of `meshes` (rest shape: their positions now). The weights
+// are relative to the inertia of one step, so the step length cancels out of the matrix. Throws
+// Error(kUnreadableInput) when the cloth has no triangle or the matrix cannot be factored.
 void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
-                       const ClothOptions& options, double h, ClothModel& model);
+                       const ClothOptions& options, ClothModel& model);
 
 // One step of `h` seconds without collisions: x and v (per particle) in, x the predicted end of
 // the step out (v unchanged; the caller sets it from the corrected positions).

@@ -17,7 +17,6 @@ struct Simulation::State {
   std::vector<std::vector<Vec3>> obstacle_rest;  // per mesh: positions at frame 0 (obstacles)
   int frame = 0;
   double h = 0.0;
-  double mean_edge = 0.0;  // of the cloth at rest
 };
 
 namespace {
@@ -75,13 +74,8 @@ Simulation::Simulation(SimulationScene scene) : state_(std::make_unique<State>()
         s.scene.meshes[schedule.mesh].role != Role::kObstacle || schedule.frames < 0)
       throw Error(ExitCode::kUnreadableInput, "", "simulation: a schedule names no obstacle");
   s.h = s.scene.options.time_step / s.scene.options.substeps;
-  build_cloth_model(s.scene.meshes, s.scene.pins, s.scene.options, s.h, s.model);
+  build_cloth_model(s.scene.meshes, s.scene.pins, s.scene.options, s.model);
   s.x = s.model.topo.points;
-  for (const ClothModel::Spring& sp : s.model.springs)
-    if (sp.stretch) s.mean_edge += sp.rest;
-  std::size_t edges = 0;
-  for (const ClothModel::Spring& sp : s.model.springs) edges += sp.stretch ? 1 : 0;
-  if (edges > 0) s.mean_edge /= static_cast<double>(edges);
   s.v.assign(s.x.size(), Vec3{0.0, 0.0, 0.0});
   s.obstacle_rest.resize(s.scene.meshes.size());
   for (std::size_t m = 0; m < s.scene.meshes.size(); ++m)
@@ -150,7 +144,7 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
       // A particle never leaves a step faster than max_speed edge lengths per step: the stiff
       // edge terms turn a correction's stretch into velocity, which flung the cloth off the
       // spikes' tips.
-      const double speed = norm(vel), cap = o.max_speed * s.mean_edge / s.h;
+      const double speed = norm(vel), cap = o.max_speed * s.model.mean_edge / s.h;
       s.v[i] = speed > cap ? scale(vel, cap / speed) : vel;
     }
   }
