@@ -188,8 +188,9 @@ int run_check(const CommonOptions& o) {
 }
 
 
-int run_fix(const CommonOptions& o, const std::string& preview_dir) {
-  const std::string preview = untangle::app::plan_preview(preview_dir, o);  // checked before any work
+int run_fix(CommonOptions o, const std::string& preview_dir) {
+  // The picture is planned here and checked with the outputs by run_pipeline, before any work.
+  const std::string preview = o.preview_png = untangle::app::plan_preview(preview_dir, o);
   const bool show = !o.quiet && !stdout_is_data(o);
   untangle::FixProgress progress;
   if (o.verbose && show) {

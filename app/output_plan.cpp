@@ -7,12 +7,11 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "untangle/error.h"
 #include "untangle/write_meshes.h"
@@ -64,17 +63,6 @@ void gltf_side_files(const std::string& path, std::vector<std::string>& out) {
   }
 }
 
-void add_read(const std::string& path, const std::string& label, std::vector<PlannedFile>& out) {
-  out.push_back({path, label + " " + path});
-  std::vector<std::string> side;
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return;  // a pipe is read once, by the reader, and fails there
-  const std::string ext = lower_extension(path);
-  if (ext == ".obj") obj_side_files(path, side);
-  if (ext == ".gltf") gltf_side_files(path, side);
-  for (const std::string& s : side) out.push_back({s, "the side file " + s + " of " + label + " " + path});
-}
-
 // Identity of a file: device and inode when it exists (symlinks followed, so hard links and
 // symlinks to one file are one file), else its absolute path with `..` and symlinked folders
 // resolved.
@@ -110,6 +98,19 @@ bool same_file(const FileIdentity& a, const FileIdentity& b) {
 
 }  // namespace
 
+void add_read(const std::string& path, const std::string& label, std::vector<PlannedFile>& out) {
+  out.push_back({path, label + " " + path});
+  std::vector<std::string> side;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    return;  // a pipe is read once, by the reader, and fails there
+  const std::string ext = lower_extension(path);
+  if (ext == ".obj") obj_side_files(path, side);
+  if (ext == ".gltf") gltf_side_files(path, side);
+  for (const std::string& s : side)
+    out.push_back({s, "the side file " + s + " of " + label + " " + path});
+}
+
 std::vector<PlannedFile> files_read(const CommonOptions& o) {
   std::vector<PlannedFile> read;
   for (const std::string& p : o.inputs) add_read(p, "the input", read);
@@ -118,7 +119,8 @@ std::vector<PlannedFile> files_read(const CommonOptions& o) {
   return read;
 }
 
-std::vector<PlannedFile> files_written(const CommonOptions& o, const std::vector<std::string>& outputs) {
+std::vector<PlannedFile> files_written(const CommonOptions& o,
+                                       const std::vector<std::string>& outputs) {
   std::vector<PlannedFile> written;
   for (std::size_t k = 0; k < outputs.size(); ++k) {
     written.push_back({outputs[k], "output " + outputs[k]});
@@ -127,15 +129,21 @@ std::vector<PlannedFile> files_written(const CommonOptions& o, const std::vector
       written.push_back({side, "side file " + side + " of output " + outputs[k]});
   }
   if (!o.report.empty() && o.report != "-") written.push_back({o.report, "--report " + o.report});
-  if (!o.contours.empty() && o.contours != "-") written.push_back({o.contours, "--contours " + o.contours});
+  if (!o.contours.empty() && o.contours != "-")
+    written.push_back({o.contours, "--contours " + o.contours});
+  if (!o.preview_png.empty())
+    written.push_back({o.preview_png, "--preview picture " + o.preview_png});
   return written;
 }
 
 void check_written_files(const CommonOptions& o, const std::vector<std::string>& outputs) {
   if (o.report == "-" && o.contours == "-")
     refuse("--report - and --contours - cannot both be stdout; write one of them to a file");
-  const std::vector<PlannedFile> read = files_read(o);
-  const std::vector<PlannedFile> written = files_written(o, outputs);
+  check_planned(files_read(o), files_written(o, outputs), o.overwrite);
+}
+
+void check_planned(const std::vector<PlannedFile>& read, const std::vector<PlannedFile>& written,
+                   bool overwrite) {
   std::vector<FileIdentity> read_ids, written_ids;
   for (const auto& f : read) read_ids.push_back(identify(f.path));
   for (const auto& f : written) written_ids.push_back(identify(f.path));
@@ -158,7 +166,7 @@ void check_written_files(const CommonOptions& o, const std::vector<std::string>&
       refuse(file.label + ": folder " + folder.string() + " is not writable");
     if (fs::is_directory(target, ec)) refuse(file.label + " is a folder");
     // A dangling symlink exists too: the rename into place would replace it.
-    if (fs::exists(fs::symlink_status(target, ec)) && !o.overwrite)
+    if (fs::exists(fs::symlink_status(target, ec)) && !overwrite)
       refuse(file.label + " exists; pass --overwrite to replace it");
   }
 }

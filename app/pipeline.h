@@ -37,6 +37,7 @@ struct CommonOptions {
   double step = FixOptions{}.step;  // not a fix option (yet), varied by bench
   bool outside_closed = FixOptions{}.outside_closed_obstacles;
   bool overwrite = false;
+  std::string preview_png;  // fix --preview: the picture to write (planned with the outputs)
 };
 
 double ms_since(std::chrono::steady_clock::time_point start);

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "output_plan.h"
 #include "untangle/error.h"
 #include "untangle/read_meshes.h"
 #include "untangle/report.h"
@@ -24,31 +25,19 @@ constexpr int kMinSize = 16, kMaxSize = 8192;
   throw Error(ExitCode::kOutputNotWritten, path, why);
 }
 
-bool same_file(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-  return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
-}
-
-// Refuses, before any work, an output that is an input, lies in no folder, exists without
-// --overwrite or is not named .png.
-void check_output(const std::string& out, const std::vector<std::string>& inputs, bool overwrite) {
-  for (const std::string& in : inputs)
-    if (same_file(out, in)) refuse(out, "is an input; untangle never overwrites its inputs");
+// A render output must be named *.png (the format it writes).
+void check_png_name(const std::string& out) {
   std::string ext = fs::path(out).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".png") refuse(out, "render writes PNG only; name the output *.png");
-  const fs::path parent = fs::path(out).has_parent_path() ? fs::path(out).parent_path() : fs::path(".");
-  std::error_code ec;
-  if (!fs::is_directory(parent, ec)) refuse(out, "folder " + parent.string() + " does not exist");
-  if (fs::exists(out, ec) && !overwrite) refuse(out, "exists; pass --overwrite to replace it");
 }
 
 RenderView parse_view(const std::string& text) {
   for (RenderView v : {RenderView::kFront, RenderView::kBack, RenderView::kLeft, RenderView::kRight,
                        RenderView::kTop, RenderView::kAuto})
     if (text == to_string(v)) return v;
-  throw Error(ExitCode::kUsage, "", "--view " + text + ": expected front, back, left, right, top or auto");
+  throw Error(ExitCode::kUsage, "",
+              "--view " + text + ": expected front, back, left, right, top or auto");
 }
 
 void parse_size(const std::string& text, int& width, int& height) {
@@ -60,18 +49,12 @@ void parse_size(const std::string& text, int& width, int& height) {
     value = std::stoi(part);
     return value >= kMinSize && value <= kMaxSize;
   };
-  if (x == std::string::npos || !number(text.substr(0, x), width) || !number(text.substr(x + 1), height)) {
+  if (x == std::string::npos || !number(text.substr(0, x), width) ||
+      !number(text.substr(x + 1), height)) {
     throw Error(ExitCode::kUsage, "",
                 "--size " + text + ": expected WxH, each from " + std::to_string(kMinSize) +
                     " to " + std::to_string(kMaxSize) + " pixels (e.g. 800x800)");
   }
-}
-
-std::vector<std::string> all_inputs(const std::vector<std::string>& inputs,
-                                    const std::vector<std::string>& obstacles) {
-  std::vector<std::string> all = inputs;
-  all.insert(all.end(), obstacles.begin(), obstacles.end());
-  return all;
 }
 
 }  // namespace
@@ -79,15 +62,19 @@ std::vector<std::string> all_inputs(const std::vector<std::string>& inputs,
 CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::string& footer) {
   CLI::App* cmd = app.add_subcommand(
       "render", "Draw the meshes to a PNG: shaded surfaces, contours in red, a legend");
-  cmd->add_option("meshes", o.inputs, "Mesh files (every format assimp reads), each in its own colour")
+  cmd->add_option("meshes", o.inputs,
+                  "Mesh files (every format assimp reads), each in its own colour")
       ->required();
   cmd->add_option("--obstacle", o.obstacles, "A mesh drawn in a neutral grey (repeatable)")
       ->allow_extra_args(false)
       ->option_text("MESH");
-  cmd->add_option("-o,--output", o.output, "The PNG file to write")->required()->option_text("OUT.png");
+  cmd->add_option("-o,--output", o.output, "The PNG file to write")
+      ->required()
+      ->option_text("OUT.png");
   cmd->add_option("--view", o.view,
                   "Seen from: front (+z), back, left (-x), right, top (+y), or auto: the one that "
-                  "shows the most contour length" + std::string(" (default ") + o.view + ")")
+                  "shows the most contour length" +
+                      std::string(" (default ") + o.view + ")")
       ->check(CLI::IsMember({"front", "back", "left", "right", "top", "auto"}))
       ->option_text("front|back|left|right|top|auto");
   cmd->add_option("--size", o.size, "Picture size in pixels (default " + o.size + ")")
@@ -113,7 +100,12 @@ int run_render(const RenderCliOptions& o) {
   options.contours = o.contours;
   options.inside = o.inside;
   options.threads = o.threads;
-  check_output(o.output, all_inputs(o.inputs, o.obstacles), o.overwrite);
+  // Checked before any work, like every file untangle writes (output_plan.h).
+  check_png_name(o.output);
+  std::vector<PlannedFile> read;
+  for (const std::string& p : o.inputs) add_read(p, "the input", read);
+  for (const std::string& p : o.obstacles) add_read(p, "the obstacle", read);
+  check_planned(read, {{o.output, "-o " + o.output}}, o.overwrite);
 
   CommonOptions load;
   load.inputs = o.inputs;
@@ -127,7 +119,8 @@ int run_render(const RenderCliOptions& o) {
     const bool detected = options.contours || options.inside || options.view == RenderView::kAuto;
     std::printf("view %s, %dx%d", to_string(summary.view), image.width, image.height);
     if (detected)
-      std::printf(", %zu crossings, %zu contours", summary.counts.crossings, summary.counts.contours);
+      std::printf(", %zu crossings, %zu contours", summary.counts.crossings,
+                  summary.counts.contours);
     std::printf(", %.0f ms\n", ms_since(start));
     std::printf("wrote %s\n", o.output.c_str());
   }
@@ -142,19 +135,12 @@ void add_preview_option(CLI::App& fix, std::string& dir) {
 }
 
 std::string plan_preview(const std::string& dir, const CommonOptions& o) {
-  if (dir.empty() || o.inputs.empty()) return "";
+  if (dir.empty()) return "";
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) refuse(dir, "--preview: folder does not exist");
-  const std::string path =
-      (fs::path(dir) / (fs::path(o.inputs[0]).stem().string() + "_before_after.png")).string();
-  check_output(path, all_inputs(o.inputs, o.obstacles), o.overwrite);
-  for (const std::string& out : o.outputs)
-    if (same_file(out, path)) refuse(path, "named as both output and preview");
-  for (const std::string& other : {o.report, o.contours})
-    if (!other.empty() && other != "-" && same_file(other, path))
-      refuse(path, "named as both " + std::string(other == o.report ? "--report" : "--contours") +
-                       " and the preview");
-  return path;
+  // The rest (never a file read, nor another file written, nor existing without --overwrite) is
+  // checked with fix's outputs, before any work (CommonOptions::preview_png).
+  return (fs::path(dir) / (fs::path(o.inputs[0]).stem().string() + "_before_after.png")).string();
 }
 
 void write_preview(const std::string& path, const PipelineRun& run, const CommonOptions& o) {

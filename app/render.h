@@ -31,8 +31,9 @@ int run_render(const RenderCliOptions& o);
 
 // Adds `--preview DIR` to `fix`.
 void add_preview_option(CLI::App& fix, std::string& dir);
-// The files `fix --preview DIR` writes, checked before any work like fix's outputs (throws
-// Error(kOutputNotWritten)): DIR/<stem of the first movable input>_before_after.png.
+// The picture `fix --preview DIR` writes (DIR/<first input's stem>_before_after.png); throws
+// Error(kOutputNotWritten) when DIR is no folder. The caller puts it in CommonOptions::preview_png
+// so that it is checked with fix's other outputs before any work.
 std::string plan_preview(const std::string& dir, const CommonOptions& o);
 // Renders and writes the preview of a finished run to `path` (from plan_preview).
 void write_preview(const std::string& path, const PipelineRun& run, const CommonOptions& o);

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "output_plan.h"
 #include "scenes/random_tangles.h"
 #include "scenes/scenes.h"
 #include "untangle/error.h"
@@ -60,6 +61,12 @@ std::string frame_path(const fs::path& dir, const std::string& stem, int frame) 
   char digits[16];
   std::snprintf(digits, sizeof digits, "%04d", frame);
   return (dir / (stem + "_" + digits + ".obj")).string();
+}
+
+// DIR/frame_<frame>.png, the picture of a saved frame (--preview).
+std::string frame_png(const std::string& dir, int frame) {
+  std::string path = frame_path(dir, "frame", frame);
+  return path.replace(path.size() - 4, 4, ".png");
 }
 
 std::string read_text_file(const std::string& path) {
@@ -238,56 +245,60 @@ int run_simulate(const SimulateOptions& o) {
   if (!o.frames_given && scene_frames > 0) frames = scene_frames;
   scene.options.fix.threads = o.threads;
   const fs::path dir = o.output_dir;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw Error(ExitCode::kOutputNotWritten, o.output_dir, "cannot create the output folder");
-  // An example's start is written first, one file per mesh: the frames are rewritten from it.
   const bool example = o.scene_file.empty();
+  // An example's start is written first, one file per mesh: the frames are rewritten from it.
   if (example)
     for (std::size_t m = 0; m < scene.meshes.size(); ++m)
       inputs.push_back({(dir / (scene.meshes[m].name + ".obj")).string(),
                         scene.meshes[m].name,
                         scene.meshes[m].role,
                         {m}});
-  // Every file the run will write, checked before any work.
-  std::vector<std::string> planned;
-  if (example)
-    for (const SceneInput& input : inputs) planned.push_back(input.path);
-  for (int f = 1; f <= frames; ++f)
-    if (f % o.save_every == 0 || f == frames)
-      for (const SceneInput& input : inputs)
-        if (input.role == Role::kMovable) planned.push_back(frame_path(dir, input.stem, f));
-  // Pictures: a PNG per saved frame and a contact sheet of up to six of them.
-  std::vector<int> saved;
+  std::vector<int> saved;  // the frames written
   for (int f = 1; f <= frames; ++f)
     if (f % o.save_every == 0 || f == frames) saved.push_back(f);
-  std::vector<int> sheet_frames;
+  std::vector<int> sheet_frames;  // those on the contact sheet: up to six, spread evenly
   if (!o.preview.empty()) {
-    if (!fs::is_directory(o.preview))
-      throw Error(ExitCode::kOutputNotWritten, o.preview, "--preview: folder does not exist");
-    for (int f : saved)
-      planned.push_back(frame_path(o.preview, "frame", f)
-                            .replace(frame_path(o.preview, "frame", f).size() - 4, 4, ".png"));
-    planned.push_back((fs::path(o.preview) / "contact_sheet.png").string());
     const std::size_t count = std::min<std::size_t>(6, saved.size());
     for (std::size_t k = 0; k < count; ++k)
       sheet_frames.push_back(saved[(k + 1) * saved.size() / count - 1]);
   }
-  if (!o.report.empty() && o.report != "-") planned.push_back(o.report);
-  for (std::size_t a = 0; a < planned.size(); ++a)
-    for (std::size_t b = a + 1; b < planned.size(); ++b)
-      if (fs::weakly_canonical(planned[a]) == fs::weakly_canonical(planned[b]))
-        throw Error(ExitCode::kOutputNotWritten, planned[b], "is written twice by this run");
-  for (const std::string& path : planned)
+  // Every file the run reads and writes, checked before any work like every command's
+  // (output_plan.h): frames and their side files, pictures, the report.
+  std::vector<PlannedFile> read, written;
+  if (!example) {
+    read.push_back({o.scene_file, "the scene file " + o.scene_file});
+    for (const SceneInput& input : inputs) add_read(input.path, "the scene's mesh", read);
+  } else {
     for (const SceneInput& input : inputs)
-      if (!example && fs::exists(path) && fs::equivalent(path, input.path))
-        throw Error(ExitCode::kOutputNotWritten, path,
-                    "is an input of the scene; choose another --output-dir");
-  if (!o.overwrite)
-    for (const std::string& path : planned)
-      if (fs::exists(path))
-        throw Error(ExitCode::kOutputNotWritten, path, "exists (use --overwrite to replace it)");
+      written.push_back({input.path, "the start " + input.path});
+  }
+  for (int f : saved)
+    for (const SceneInput& input : inputs) {
+      if (input.role != Role::kMovable) continue;
+      const std::string path = frame_path(dir, input.stem, f);
+      written.push_back({path, "frame " + path});
+      for (const std::string& side : side_files_of_output(input.path, path))
+        written.push_back({side, "side file " + side + " of frame " + path});
+    }
+  if (!o.preview.empty()) {
+    for (int f : saved)
+      written.push_back({frame_png(o.preview, f), "picture " + frame_png(o.preview, f)});
+    const std::string sheet_path = (fs::path(o.preview) / "contact_sheet.png").string();
+    written.push_back({sheet_path, "picture " + sheet_path});
+  }
+  if (!o.report.empty() && o.report != "-") written.push_back({o.report, "--report " + o.report});
+  // The output folder is made for the check (its files must lie in a folder) and removed again
+  // when the check refuses the run.
+  std::error_code ec;
+  const bool made = !fs::exists(dir, ec) && fs::create_directories(dir, ec);
+  try {
+    if (ec || !fs::is_directory(dir, ec))
+      throw Error(ExitCode::kOutputNotWritten, o.output_dir, "cannot create the output folder");
+    check_planned(read, written, o.overwrite);
+  } catch (...) {
+    if (made) fs::remove(dir, ec);
+    throw;
+  }
 
   if (example)
     for (const SceneInput& input : inputs)
@@ -327,7 +338,7 @@ int run_simulate(const SimulateOptions& o) {
                                   {"uncorrected_steps", r.uncorrected_steps},
                                   {"kinetic_energy", r.kinetic_energy},
                                   {"max_stretch", r.max_stretch}};
-    if (f % o.save_every == 0 || f == frames) {
+    if (std::binary_search(saved.begin(), saved.end(), f)) {
       // Written, then read back with the obstacles at this frame: the written file is the truth.
       std::vector<Mesh> written;
       for (const Mesh& mesh : sim.meshes())
@@ -358,9 +369,7 @@ int run_simulate(const SimulateOptions& o) {
         marks.legend = {"frame " + std::to_string(f) + ": " + std::to_string(crossings) +
                         " crossings"};
         const RgbImage image = render_meshes(written, camera, marks, o.threads);
-        std::string png = frame_path(o.preview, "frame", f);
-        png.replace(png.size() - 4, 4, ".png");
-        write_text_file_atomically(png, encode_png(image));
+        write_text_file_atomically(frame_png(o.preview, f), encode_png(image));
         if (std::find(sheet_frames.begin(), sheet_frames.end(), f) != sheet_frames.end())
           sheet = sheet.width == 0 ? image : side_by_side(sheet, image);
       }
