@@ -54,6 +54,7 @@ TEST(Simulate, SheetDropsOntoBallAndIsHeldByIt) {
   for (int f = 0; f < 60; ++f) {
     const FrameRecord r = sim.advance();
     ASSERT_TRUE(r.corrected) << "frame " << r.frame;
+    ASSERT_EQ(r.uncorrected_steps, 0) << "frame " << r.frame << ": a step's correction failed";
     ASSERT_EQ(r.crossings_after, 0u) << "frame " << r.frame;
     ASSERT_EQ(crossings_with_obstacles(sim.meshes()), 0u) << "frame " << r.frame;
     EXPECT_LT(r.max_stretch, 2.0) << "frame " << r.frame;
