@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cgal_reference.h"
+#include "geometry/vec3.h"
 #include "scenes/scenes.h"
 #include "scenes/self_scenes.h"
 #include "untangle/fix.h"
@@ -20,11 +21,6 @@
 namespace untangle {
 namespace {
 
-Vec3 sub3(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 cross3(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-double dot3(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // The winding number of a closed mesh at p by a ray: +1 for each face the ray leaves through
 // (outward normal along the ray), -1 for each it enters through (Moller-Trumbore).
@@ -33,18 +29,18 @@ int ray_winding(const Mesh& mesh, const Vec3& p) {
   int w = 0;
   for (const Triangle& t : mesh.triangles) {
     const Vec3& a = mesh.positions[t[0]];
-    const Vec3 e1 = sub3(mesh.positions[t[1]], a), e2 = sub3(mesh.positions[t[2]], a);
-    const Vec3 q = cross3(d, e2);
-    const double det = dot3(e1, q);
+    const Vec3 e1 = sub(mesh.positions[t[1]], a), e2 = sub(mesh.positions[t[2]], a);
+    const Vec3 q = cross(d, e2);
+    const double det = dot(e1, q);
     if (det == 0.0) continue;
-    const Vec3 s = sub3(p, a);
-    const double u = dot3(s, q) / det;
+    const Vec3 s = sub(p, a);
+    const double u = dot(s, q) / det;
     if (u < 0.0 || u > 1.0) continue;
-    const Vec3 r = cross3(s, e1);
-    const double v = dot3(d, r) / det;
+    const Vec3 r = cross(s, e1);
+    const double v = dot(d, r) / det;
     if (v < 0.0 || u + v > 1.0) continue;
-    if (dot3(e2, r) / det <= 0.0) continue;
-    w += dot3(cross3(e1, e2), d) > 0.0 ? 1 : -1;
+    if (dot(e2, r) / det <= 0.0) continue;
+    w += dot(cross(e1, e2), d) > 0.0 ? 1 : -1;
   }
   return w;
 }
@@ -73,7 +69,7 @@ Mesh with_holes(Mesh mesh, const std::vector<Vec3>& centres, double radius) {
     for (std::uint32_t v : t)
       for (int k = 0; k < 3; ++k) c[k] += mesh.positions[v][k] / 3.0;
     bool drop = false;
-    for (const Vec3& h : centres) drop = drop || std::sqrt(dot3(sub3(c, h), sub3(c, h))) < radius;
+    for (const Vec3& h : centres) drop = drop || std::sqrt(dot(sub(c, h), sub(c, h))) < radius;
     if (!drop) kept.push_back(t);
   }
   mesh.triangles = kept;

@@ -4,13 +4,13 @@
 #include <cmath>
 #include <limits>
 
+#include "geometry/vec3.h"
 #include "untangle/render.h"
 
 namespace untangle {
 
 namespace {
 
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 
 // The orientation of a view: right, up, toward the viewer (a right-handed frame).
 struct ViewAxes {

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "detect/run_parallel.h"
+#include "geometry/vec3.h"
 #include "render/legend.h"
 #include "untangle/render.h"
 
@@ -35,11 +36,8 @@ constexpr double kDiffuse = 0.68;
 constexpr double kBackFace = 0.78;  // back faces are lit like front faces, a little darker
 constexpr int kBandRows = 16;       // rows per band: the unit of parallel work
 
-double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
+// v / |v| by division (not vec3.h's unit(), which multiplies by 1 / |v|: the golden pictures were
+// made with this rounding).
 Vec3 normalized(const Vec3& v) {
   const double n = std::sqrt(dot(v, v));
   if (!(n > 0.0)) return {0, 0, 0};
