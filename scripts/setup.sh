@@ -25,6 +25,19 @@ packages=(
   assimp-testmodels   # real files in many formats for robustness tests
   groff-base          # renders the man page in its test
 )
+# The tests behind flags (README, "Tests behind flags") need more, installed only with their flag.
+if [[ "${UNTANGLE_WITH_SLURM:-0}" == "1" || "${UNTANGLE_SLURM_TEST:-0}" == "1" ]]; then
+  packages+=(
+    munge             # authentication of the loopback Slurm cluster (scripts/slurm/)
+    slurm-wlm         # slurmctld, slurmd, sbatch for tests/slurm/run_array_test.sh
+  )
+fi
+if [[ "${UNTANGLE_WITH_BROWSER:-0}" == "1" || "${UNTANGLE_BROWSER_TEST:-0}" == "1" ]]; then
+  packages+=(
+    chromium          # headless page checks (tests/browser/check_page.py)
+    python3           # check_page.py speaks the DevTools protocol to chromium
+  )
+fi
 
 sudo_cmd=()
 if [[ "$(id -u)" -ne 0 ]]; then
