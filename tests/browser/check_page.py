@@ -33,7 +33,7 @@ IMAGES_JS = """JSON.stringify(Array.from(document.images, img => ({
 class Browser:
     """Chromium with the DevTools protocol on fds 3 (commands in) and 4 (replies and events out)."""
 
-    def __init__(self, args, deadline):
+    def __init__(self, args, deadline, log):
         self.deadline = deadline
         cmd_read, self.cmd_write = os.pipe()
         self.out_read, out_write = os.pipe()
@@ -45,7 +45,7 @@ class Browser:
             os.dup2(ends[1], 4)
         self.proc = subprocess.Popen(args, close_fds=False, preexec_fn=child_fds,
                                      start_new_session=True, stdin=subprocess.DEVNULL,
-                                     stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+                                     stdout=log, stderr=log)
         os.close(cmd_read)
         os.close(out_write)
         self.buffer = b""
@@ -154,12 +154,14 @@ def main():
         return 3
 
     profile = tempfile.mkdtemp(prefix="untangle-chromium.")
+    log_path = pathlib.Path(profile, "chromium.log")
+    log = open(log_path, "wb")  # a file, not a pipe nobody reads that could fill and block Chromium
     browser = Browser([chromium, "--headless=new", "--no-sandbox", "--disable-gpu",
                        "--disable-dev-shm-usage", "--no-first-run", "--no-default-browser-check",
                        "--disable-extensions", "--disable-background-networking",
                        f"--user-data-dir={profile}", f"--window-size={width},{height}",
                        "--remote-debugging-pipe", "about:blank"],
-                      time.monotonic() + args.timeout)
+                      time.monotonic() + args.timeout, log)
     try:
         target = browser.send("Target.createTarget", {"url": "about:blank"})["targetId"]
         session = browser.send("Target.attachToTarget",
@@ -182,13 +184,14 @@ def main():
                             session=session)
         args.shot.write_bytes(base64.b64decode(shot["data"]))
     except (TimeoutError, RuntimeError) as error:
-        stderr = b""
         browser.close()
-        stderr = browser.proc.stderr.read()[-2000:].decode(errors="replace")
-        print(f"error: {args.page}: {error}\n{stderr}", file=sys.stderr)
+        log.close()
+        output = log_path.read_bytes()[-2000:].decode(errors="replace")
+        print(f"error: {args.page}: {error}\n{output}", file=sys.stderr)
         shutil.rmtree(profile, ignore_errors=True)
         return 3
     browser.close()
+    log.close()
     shutil.rmtree(profile, ignore_errors=True)
     for line in failures:
         print(f"{args.page}: {line}", file=sys.stderr)
