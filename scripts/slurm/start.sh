@@ -20,8 +20,8 @@ for tool in munged munge unmunge slurmctld slurmd sinfo python3; do
     exit 3
   fi
 done
-if [[ -e "$dir/slurm.conf" ]]; then
-  echo "error: $dir/slurm.conf exists: a cluster may be running there (scripts/slurm/stop.sh $dir first)" >&2
+if [[ -e "$dir/slurm.conf" || -e "$dir/pid/munged.pid" ]]; then
+  echo "error: $dir holds a cluster's files: one may be running there (scripts/slurm/stop.sh $dir first)" >&2
   exit 2
 fi
 
