@@ -9,6 +9,8 @@ if (($# != 1)); then
   exit 2
 fi
 dir="$1"
+# A reader of this script's output that goes away (| head) must not end it halfway, daemons left.
+trap '' PIPE
 timeout_s="${UNTANGLE_SLURM_STOP_TIMEOUT:-20}"
 
 # Is PID alive and still the program NAME (not a recycled PID)?
