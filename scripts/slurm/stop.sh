@@ -13,8 +13,13 @@ dir="$1"
 trap '' PIPE
 timeout_s="${UNTANGLE_SLURM_STOP_TIMEOUT:-20}"
 
-# Is PID alive and still the program NAME (not a recycled PID)?
-runs() { [[ -r "/proc/$1/comm" && "$(cat "/proc/$1/comm" 2> /dev/null)" == "$2" ]]; }
+# Is PID alive (a zombie has ended: only its parent, here init, has yet to reap it) and still the
+# program NAME (not a recycled PID)?
+runs() {
+  local state_comm
+  state_comm="$(ps -o stat=,comm= -p "$1" 2> /dev/null)" || return 1
+  [[ "$state_comm" != Z* && "${state_comm##* }" == "$2" ]]
+}
 
 # Jobs still queued or running (a test that timed out) are cancelled first: their slurmstepd
 # processes would outlive slurmd. Bounded; a cluster that no longer answers is skipped.
