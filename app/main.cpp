@@ -22,6 +22,7 @@
 #include "untangle/version.h"
 #include "untangle/write_meshes.h"
 
+#include "batch.h"
 #include "bench.h"
 #include "formats.h"
 #include "output_plan.h"
@@ -326,7 +327,7 @@ int main(int argc, char** argv) {
   fix->formatter(help);
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing files it writes: outputs, their side files, report, contours (never an input)");
   std::string fix_preview;
-  untangle::app::add_preview_option(*fix, fix_preview);
+  untangle::app::add_preview_option(*fix, fix_preview, fix_options);
   fix->footer(kExitCodes);
   CLI::App* formats = app.add_subcommand("formats", "List the file formats untangle reads and writes");
   formats->footer(kExitCodes);
@@ -394,6 +395,8 @@ int main(int argc, char** argv) {
   simulate->footer(kExitCodes);
   untangle::app::RenderCliOptions render_options;
   CLI::App* render = untangle::app::add_render_command(app, render_options, kExitCodes);
+  untangle::app::BatchOptions batch_options;
+  CLI::App* batch = untangle::app::add_batch_command(app, batch_options, kExitCodes);
 
   try {
     app.parse(argc, argv);
@@ -418,6 +421,7 @@ int main(int argc, char** argv) {
       return untangle::app::run_simulate(simulate_options);
     }
     if (render->parsed()) return untangle::app::run_render(render_options);
+    if (batch->parsed()) return untangle::app::run_batch(batch_options);
     if (formats->parsed()) return untangle::app::run_formats();
   } catch (const untangle::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
