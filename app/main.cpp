@@ -42,14 +42,15 @@ using untangle::app::run_pipeline;
 constexpr const char* kExitCodes =
     "Exit codes:\n"
     "  0  success: nothing intersects (check), or the command did its job (bench: it ran)\n"
-    "  1  internal error\n"
+    "  1  internal error (batch: a job crashed or reached its time limit)\n"
     "  2  usage error (bad command line)\n"
     "  3  unreadable input (missing, empty, unknown format, corrupt, no triangles,\n"
     "     NaN or infinite coordinates, face indices out of range; bench: a --data\n"
     "     folder without garment/body pairs)\n"
     "  4  output not written\n"
     "  5  intersections or vertices inside an obstacle found (check) or remaining in the written\n"
-    "     output (fix)\n";
+    "     output (fix)\n"
+    "  batch exits with its worst job's code: 0, then 5, 4, 3, 2, 1 from best to worst\n";
 
 // " (default X)" for a help text, X read from the options struct that holds the default: a default
 // is written in one place only (FixOptions, DetectOptions, BenchOptions).
