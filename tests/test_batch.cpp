@@ -383,5 +383,30 @@ TEST(Batch, EmittedScriptsGiveTheSummaryOfALocalRun) {
   EXPECT_EQ(summary_of(early)["totals"]["failed"], 3);
 }
 
+// The thumbnails: fix --preview-size sets each of the preview's three panels; a bad size is a
+// usage error before any work.
+TEST(Batch, PreviewSizeSetsEachPanel) {
+  TempDir dir;
+  write_jobs(dir.path() / "in", 1);
+  const std::string job = (dir.path() / "in" / "job-00").string();
+  const std::string args = "fix " + quote(job + "/movable_0.obj") + " --obstacle " +
+                           quote(job + "/obstacle_0.obj") + " --output-dir " + quote(dir.path().string()) +
+                           " --preview " + quote(dir.path().string()) + " -q --preview-size ";
+  const auto r = run_cli(args + "48x32");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string png = read_text(dir.file("movable_0_before_after.png"));
+  ASSERT_GE(png.size(), 24u);
+  auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned char>(png[at]) << 24) | (static_cast<unsigned char>(png[at + 1]) << 16) |
+           (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]);
+  };
+  EXPECT_EQ(png.substr(12, 4), "IHDR");
+  EXPECT_EQ(be32(16), 3 * 48);  // before, after, displacement side by side
+  EXPECT_EQ(be32(20), 32);
+  const auto bad = run_cli(args + "48 --overwrite");
+  EXPECT_EQ(bad.exit_code, 2) << bad.err;
+  EXPECT_NE(bad.err.find("--preview-size 48: expected WxH"), std::string::npos) << bad.err;
+}
+
 }  // namespace
 }  // namespace untangle
