@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "batch_run.h"
+#include "plot.h"
 #include "untangle/version.h"
 
 namespace untangle::app {
@@ -38,31 +39,13 @@ Json counts_of(const Json& counts) {
   return c;
 }
 
-std::string html_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
-
 std::string md_escape(const std::string& s) {
   std::string out;
   for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
   return out;
 }
 
-std::string number(double x, const char* format = "%.3g") {
-  char text[64];
-  std::snprintf(text, sizeof text, format, x);
-  return text;
-}
+std::string number(double x, const char* format = "%.3g") { return fmt(format, x); }
 
 // "12 -> 0" for a job's before and after, "" when it did not finish.
 std::string before_after(const Json& job, const char* key) {
@@ -183,30 +166,30 @@ BatchSummary make_summary(const BatchOptions& o, const BatchPlan& plan,
        << (numbers ? std::to_string(flipped) : "") << " | " << number(j["time_ms"].get<double>() / 1000.0, "%.2f")
        << " | " << md_escape(outputs) << " |\n";
     const int rank = st == "failed" ? 0 : st == "unresolved" ? 1 : 2;
-    rows << "<tr><td>" << html_escape(j["id"].get<std::string>()) << "</td><td class=\"" << st
-         << "\" data-key=\"" << rank << "\">" << st << (why.empty() ? "" : ": " + html_escape(why))
-         << "</td><td class=\"n\">" << html_escape(before_after(j, "crossings")) << "</td><td class=\"n\">"
-         << html_escape(before_after(j, "inside_vertices")) << "</td><td class=\"n\">"
+    rows << "<tr><td>" << xml_escaped(j["id"].get<std::string>()) << "</td><td class=\"" << st
+         << "\" data-key=\"" << rank << "\">" << st << (why.empty() ? "" : ": " + xml_escaped(why))
+         << "</td><td class=\"n\">" << xml_escaped(before_after(j, "crossings")) << "</td><td class=\"n\">"
+         << xml_escaped(before_after(j, "inside_vertices")) << "</td><td class=\"n\">"
          << (numbers ? number(edge) : "") << "</td><td class=\"n\">"
          << (numbers ? std::to_string(flipped) : "") << "</td><td class=\"n\">"
          << number(j["time_ms"].get<double>() / 1000.0, "%.2f") << "</td><td>";
     if (j["preview"].is_string()) {
-      const std::string src = html_escape(j["preview"].get<std::string>());
+      const std::string src = xml_escaped(j["preview"].get<std::string>());
       rows << "<a href=\"" << src << "\"><img src=\"" << src << "\" alt=\"before, after, displacement\" loading=\"lazy\"></a>";
     }
     rows << "</td><td>";
     for (const Json& p : j["outputs"]) {
-      const std::string href = html_escape(p.get<std::string>());
-      rows << "<a href=\"" << href << "\">" << html_escape(fs::path(p.get<std::string>()).filename().string()) << "</a> ";
+      const std::string href = xml_escaped(p.get<std::string>());
+      rows << "<a href=\"" << href << "\">" << xml_escaped(fs::path(p.get<std::string>()).filename().string()) << "</a> ";
     }
-    rows << "<a href=\"" << html_escape(j["log"].get<std::string>()) << "\">log</a></td></tr>\n";
+    rows << "<a href=\"" << xml_escaped(j["log"].get<std::string>()) << "\">log</a></td></tr>\n";
   }
   md << "\nTimes are wall-clock per job; they are the only numbers that differ between two runs.\n";
   summary.markdown = md.str();
 
   std::ostringstream html;
-  html << kHtmlHead << "<h1>untangle batch: " << html_escape(o.source) << "</h1>\n<p>Status <b class=\""
-       << status << "\">" << status << "</b> (exit " << summary.exit_code << "); " << html_escape(totals)
+  html << kHtmlHead << "<h1>untangle batch: " << xml_escaped(o.source) << "</h1>\n<p>Status <b class=\""
+       << status << "\">" << status << "</b> (exit " << summary.exit_code << "); " << xml_escaped(totals)
        << ". Click a column header to sort.</p>\n"
        << "<table><thead><tr><th>job</th><th>status</th><th>crossings before -&gt; after</th>"
           "<th>inside vertices before -&gt; after</th><th>max edge change</th><th>flipped faces</th>"

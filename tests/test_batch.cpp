@@ -31,7 +31,7 @@ using testing::write_text;
 #if defined(__SANITIZE_ADDRESS__)
 constexpr const char* kTimeLimit = "30";
 #else
-constexpr const char* kTimeLimit = "3";
+constexpr const char* kTimeLimit = "5";
 #endif
 
 // Job folders job-00 ... job-<n-1> under `dir` (the subfolder layout): the sheet through the
