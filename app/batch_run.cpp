@@ -198,8 +198,8 @@ std::vector<JobRecord> run_jobs(const std::vector<const BatchJob*>& jobs,
       r.pid = ::fork();
       if (r.pid < 0) throw Error(ExitCode::kInternal, "", std::string("fork: ") + std::strerror(errno));
       if (r.pid == 0) {
-        // The child: only async-signal-safe calls until exec.
-        ::setpgid(0, 0);
+        // The child: only async-signal-safe calls until exec. It stays in the batch's process
+        // group, so that Ctrl-C on the batch stops its jobs too.
         const int null = ::open("/dev/null", O_RDONLY);
         if (null >= 0) ::dup2(null, 0);
         ::dup2(log, 1);
@@ -230,7 +230,6 @@ std::vector<JobRecord> run_jobs(const std::vector<const BatchJob*>& jobs,
         continue;
       }
       if (timed_out) {
-        ::kill(-r.pid, SIGKILL);
         ::kill(r.pid, SIGKILL);
         ::waitpid(r.pid, &status, 0);
       }

@@ -29,7 +29,7 @@ bool read_job_record(const std::string& path, JobRecord& r);
 using JobDone = std::function<void(const JobRecord&)>;
 
 // Runs `jobs` (prepared[k] holds job k's id, hashes and options), `parallel` at once, each its own
-// process with stdout and stderr in OUT/jobs/<id>/log.txt, killed (SIGKILL, its process group) at
+// process with stdout and stderr in OUT/jobs/<id>/log.txt, killed (SIGKILL) at
 // o.time_limit seconds; writes each job's job.json when it ends and returns the records in the
 // order of `jobs`. The test hook UNTANGLE_BATCH_TEST_FAULT=crash:ID,hang:ID makes the process of
 // job ID crash (SIGSEGV) or hang instead of running fix.
