@@ -22,6 +22,7 @@
 #include "untangle/version.h"
 #include "untangle/write_meshes.h"
 
+#include "batch.h"
 #include "bench.h"
 #include "formats.h"
 #include "output_plan.h"
@@ -41,14 +42,15 @@ using untangle::app::run_pipeline;
 constexpr const char* kExitCodes =
     "Exit codes:\n"
     "  0  success: nothing intersects (check), or the command did its job (bench: it ran)\n"
-    "  1  internal error\n"
+    "  1  internal error (batch: a job crashed or reached its time limit)\n"
     "  2  usage error (bad command line)\n"
     "  3  unreadable input (missing, empty, unknown format, corrupt, no triangles,\n"
     "     NaN or infinite coordinates, face indices out of range; bench: a --data\n"
     "     folder without garment/body pairs)\n"
     "  4  output not written\n"
     "  5  intersections or vertices inside an obstacle found (check) or remaining in the written\n"
-    "     output (fix)\n";
+    "     output (fix)\n"
+    "  batch exits with its worst job's code: 0, then 5, 4, 3, 2, 1 from best to worst\n";
 
 // " (default X)" for a help text, X read from the options struct that holds the default: a default
 // is written in one place only (FixOptions, DetectOptions, BenchOptions).
@@ -326,7 +328,7 @@ int main(int argc, char** argv) {
   fix->formatter(help);
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing files it writes: outputs, their side files, report, contours (never an input)");
   std::string fix_preview;
-  untangle::app::add_preview_option(*fix, fix_preview);
+  untangle::app::add_preview_option(*fix, fix_preview, fix_options);
   fix->footer(kExitCodes);
   CLI::App* formats = app.add_subcommand("formats", "List the file formats untangle reads and writes");
   formats->footer(kExitCodes);
@@ -394,6 +396,8 @@ int main(int argc, char** argv) {
   simulate->footer(kExitCodes);
   untangle::app::RenderCliOptions render_options;
   CLI::App* render = untangle::app::add_render_command(app, render_options, kExitCodes);
+  untangle::app::BatchOptions batch_options;
+  CLI::App* batch = untangle::app::add_batch_command(app, batch_options, kExitCodes);
 
   try {
     app.parse(argc, argv);
@@ -418,6 +422,7 @@ int main(int argc, char** argv) {
       return untangle::app::run_simulate(simulate_options);
     }
     if (render->parsed()) return untangle::app::run_render(render_options);
+    if (batch->parsed()) return untangle::app::run_batch(batch_options);
     if (formats->parsed()) return untangle::app::run_formats();
   } catch (const untangle::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());

@@ -38,6 +38,7 @@ struct CommonOptions {
   bool outside_closed = FixOptions{}.outside_closed_obstacles;
   bool overwrite = false;
   std::string preview_png;  // fix --preview: the picture to write (planned with the outputs)
+  std::string preview_size;  // fix --preview-size WxH, each panel; empty = RenderOptions' size
 };
 
 double ms_since(std::chrono::steady_clock::time_point start);

@@ -9,7 +9,6 @@
 #include <vector>
 
 namespace untangle::app {
-namespace {
 
 std::string fmt(const char* format, double value) {
   char buffer[64];
@@ -31,6 +30,8 @@ std::string xml_escaped(const std::string& text) {
   }
   return out;
 }
+
+namespace {
 
 // A round tick step (1, 2 or 5 times a power of ten) giving about `count` ticks over [0, top].
 double tick_step(double top, int count) {

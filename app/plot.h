@@ -10,6 +10,11 @@
 
 namespace untangle::app {
 
+// `value` printed with a printf `format` ("%.3g").
+std::string fmt(const char* format, double value);
+// `text` with the characters XML and HTML give a meaning to (& < > ") escaped.
+std::string xml_escaped(const std::string& text);
+
 struct HistorySeries {
   std::string method;  // legend label, e.g. "region"
   std::vector<IterationRecord> history;

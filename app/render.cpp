@@ -40,7 +40,9 @@ RenderView parse_view(const std::string& text) {
               "--view " + text + ": expected front, back, left, right, top or auto");
 }
 
-void parse_size(const std::string& text, int& width, int& height) {
+}  // namespace
+
+void parse_size(const std::string& option, const std::string& text, int& width, int& height) {
   const std::size_t x = text.find('x');
   auto number = [&](const std::string& part, int& value) {
     if (part.empty() || part.size() > 5) return false;
@@ -52,12 +54,10 @@ void parse_size(const std::string& text, int& width, int& height) {
   if (x == std::string::npos || !number(text.substr(0, x), width) ||
       !number(text.substr(x + 1), height)) {
     throw Error(ExitCode::kUsage, "",
-                "--size " + text + ": expected WxH, each from " + std::to_string(kMinSize) +
+                option + " " + text + ": expected WxH, each from " + std::to_string(kMinSize) +
                     " to " + std::to_string(kMaxSize) + " pixels (e.g. 800x800)");
   }
 }
-
-}  // namespace
 
 CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::string& footer) {
   CLI::App* cmd = app.add_subcommand(
@@ -96,7 +96,7 @@ int run_render(const RenderCliOptions& o) {
   const auto start = std::chrono::steady_clock::now();
   RenderOptions options;
   options.view = parse_view(o.view);
-  parse_size(o.size, options.width, options.height);
+  parse_size("--size", o.size, options.width, options.height);
   options.contours = o.contours;
   options.inside = o.inside;
   options.threads = o.threads;
@@ -127,14 +127,24 @@ int run_render(const RenderCliOptions& o) {
   return 0;
 }
 
-void add_preview_option(CLI::App& fix, std::string& dir) {
+void add_preview_option(CLI::App& fix, std::string& dir, CommonOptions& o) {
   fix.add_option("--preview", dir,
                  "Also write DIR/<first input's stem>_before_after.png: before, after and the "
                  "displacement, contours in red")
       ->option_text("DIR");
+  o.preview_size =
+      std::to_string(RenderOptions{}.width) + "x" + std::to_string(RenderOptions{}.height);
+  fix.add_option("--preview-size", o.preview_size,
+                 "Size of each of the preview's three panels in pixels (default " + o.preview_size +
+                     ")")
+      ->option_text("WxH");
 }
 
 std::string plan_preview(const std::string& dir, const CommonOptions& o) {
+  if (!o.preview_size.empty()) {
+    int width = 0, height = 0;
+    parse_size("--preview-size", o.preview_size, width, height);  // a bad size is a usage error before any work
+  }
   if (dir.empty()) return "";
   std::error_code ec;
   if (!fs::is_directory(dir, ec)) refuse(dir, "--preview: folder does not exist");
@@ -155,6 +165,7 @@ void write_preview(const std::string& path, const PipelineRun& run, const Common
   const Intersections found_before = find_intersections(before, detect);
   RenderOptions options;
   options.threads = o.threads;
+  if (!o.preview_size.empty()) parse_size("--preview-size", o.preview_size, options.width, options.height);
   const RgbImage image =
       render_before_after(before, run.meshes, found_before, run.verified, options);
   write_text_file_atomically(path, encode_png(image));

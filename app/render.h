@@ -25,12 +25,15 @@ struct RenderCliOptions {
   int threads = RenderOptions{}.threads;
 };
 
+// Parses "WxH" (each 16 to 8192 pixels) of `option`; throws Error(kUsage) naming the option.
+void parse_size(const std::string& option, const std::string& text, int& width, int& height);
+
 // Adds the `render` subcommand to `app`, options parsed into `o`.
 CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::string& footer);
 int run_render(const RenderCliOptions& o);
 
-// Adds `--preview DIR` to `fix`.
-void add_preview_option(CLI::App& fix, std::string& dir);
+// Adds `--preview DIR` and `--preview-size WxH` (into o.preview_size) to `fix`.
+void add_preview_option(CLI::App& fix, std::string& dir, CommonOptions& o);
 // The picture `fix --preview DIR` writes (DIR/<first input's stem>_before_after.png); throws
 // Error(kOutputNotWritten) when DIR is no folder. The caller puts it in CommonOptions::preview_png
 // so that it is checked with fix's other outputs before any work.

@@ -511,6 +511,27 @@ std::vector<Mesh> scaled_about_centre(std::vector<Mesh> meshes, double factor) {
   return meshes;
 }
 
+std::vector<std::pair<std::string, std::string>> garment_body_pairs_in(
+    const std::string& garments, const std::string& bodies, std::vector<std::string>& notes) {
+  namespace fs = std::filesystem;
+  std::vector<std::pair<std::string, std::string>> pairs;  // garment path, body path
+  for (const fs::directory_entry& entry : fs::directory_iterator(garments)) {
+    const fs::path& p = entry.path();
+    if (!entry.is_regular_file() || p.extension() != ".obj") continue;
+    const std::string stem = p.stem().string();
+    const std::size_t underscore = stem.find('_');
+    if (underscore == std::string::npos || stem.substr(underscore) == "_generic") continue;
+    const fs::path body = fs::path(bodies) / (stem.substr(0, underscore) + "_generic.obj");
+    if (!fs::is_regular_file(body)) {
+      notes.push_back(p.string() + ": no body " + body.string() + ", left out");
+      continue;
+    }
+    pairs.emplace_back(p.string(), body.string());
+  }
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
 std::vector<std::pair<std::string, std::string>> garment_body_pairs(const std::string& dir,
                                                                     std::vector<std::string>& notes) {
   namespace fs = std::filesystem;
@@ -521,25 +542,11 @@ std::vector<std::pair<std::string, std::string>> garment_body_pairs(const std::s
                 "no garments/ and bodies/ folders (expected garments/<prefix>_*.obj and "
                 "bodies/<prefix>_generic.obj)");
   }
-  std::vector<std::pair<std::string, std::string>> pairs;  // garment path, body path
-  for (const fs::directory_entry& entry : fs::directory_iterator(garments_dir)) {
-    const fs::path& p = entry.path();
-    if (!entry.is_regular_file() || p.extension() != ".obj") continue;
-    const std::string stem = p.stem().string();
-    const std::size_t underscore = stem.find('_');
-    if (underscore == std::string::npos) continue;
-    const fs::path body = bodies_dir / (stem.substr(0, underscore) + "_generic.obj");
-    if (!fs::is_regular_file(body)) {
-      notes.push_back(p.string() + ": no body " + body.string() + ", left out");
-      continue;
-    }
-    pairs.emplace_back(p.string(), body.string());
-  }
+  auto pairs = garment_body_pairs_in(garments_dir.string(), bodies_dir.string(), notes);
   if (pairs.empty()) {
     throw Error(ExitCode::kUnreadableInput, dir,
                 "no garments/<prefix>_*.obj with a matching bodies/<prefix>_generic.obj");
   }
-  std::sort(pairs.begin(), pairs.end());
   return pairs;
 }
 

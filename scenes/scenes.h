@@ -87,6 +87,11 @@ std::vector<Mesh> scaled_about_centre(std::vector<Mesh> meshes, double factor);
 // line in `notes`. Throws Error(kUnreadableInput) when the folders are missing or hold no pair.
 std::vector<std::pair<std::string, std::string>> garment_body_pairs(const std::string& dir,
                                                                     std::vector<std::string>& notes);
+// The same pairs from two given folders (which may be one: then the bodies are not garments):
+// every GARMENTS/<prefix>_*.obj other than a body, with BODIES/<prefix>_generic.obj. Empty when
+// there is none; a garment without its body is left out with a line in `notes`.
+std::vector<std::pair<std::string, std::string>> garment_body_pairs_in(
+    const std::string& garments, const std::string& bodies, std::vector<std::string>& notes);
 
 // An n x n sheet (3 x 3) across the cylinder of a closed capsule (radius 0.6, obstacle): one
 // CL/CL contour around a disc of about n^2 / 8 sheet vertices, for timing larger repairs without
