@@ -31,9 +31,12 @@ TEST(DescribeMesh, FromTheSceneTopologyEqualsEachMeshAlone) {
     std::vector<Mesh> meshes = scene.movable;
     meshes.insert(meshes.end(), scene.obstacles.begin(), scene.obstacles.end());
     // An unused vertex and a dropped triangle in the first mesh: ranges must still line up.
-    meshes.front().positions.push_back(meshes.front().positions.front());
-    meshes.front().positions.push_back({1e3, 1e3, 1e3});
-    meshes.front().triangles.push_back({0, 0, 1});
+    Mesh& first = meshes.front();
+    first.positions.push_back(first.positions.front());
+    first.positions.push_back({1e3, 1e3, 1e3});
+    first.triangles.push_back({0, 0, 1});
+    first.polygon.push_back(static_cast<std::uint32_t>(first.source_faces++));
+    if (!first.triangle_group.empty()) first.triangle_group.push_back(first.triangle_group.back());
     std::vector<MeshInfo> infos;
     find_intersections(meshes, {}, nullptr, &infos);
     ASSERT_EQ(infos.size(), meshes.size());
