@@ -138,15 +138,14 @@ int run_check(const CommonOptions& o) {
   untangle::app::check_written_files(o, {});
   const auto start = std::chrono::steady_clock::now();
   const std::vector<untangle::Mesh> meshes = load_all(o);
-  std::vector<untangle::MeshInfo> infos;
-  for (const auto& m : meshes) infos.push_back(untangle::describe_mesh(m));
   untangle::CheckTimingsMs timings;
   timings.load = ms_since(start);
 
   untangle::DetectOptions options;
   options.threads = o.threads;
   untangle::DetectTimings detect;
-  const untangle::Intersections found = untangle::find_intersections(meshes, options, &detect);
+  std::vector<untangle::MeshInfo> infos;  // from detection's topology
+  const untangle::Intersections found = untangle::find_intersections(meshes, options, &detect, &infos);
   timings.detect = detect.detect_ms;
   timings.contours = detect.contours_ms;
 

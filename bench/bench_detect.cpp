@@ -1,8 +1,14 @@
 // Benchmark of detection against CGAL in one process: sheets of growing resolution through the
 // cow; untangle::find_intersections against CGAL's Polygon_mesh_processing routines.
 //
-// Usage: untangle_bench_detect [--quick]
+// Usage: untangle_bench_detect [--quick] [--jitter] [--write DIR]
 //   --quick  only n = 81, 9 repeats (default: n in {41, 81, 121, 161, 201, 281}, 5 repeats)
+//   --jitter  every sheet vertex moved by up to 0.1 cell sizes along each axis (fixed seed): a
+//             sheet like real cloth, never flat to the last bit, where neither side's shortcuts
+//             for axis planes apply (the flat sheets favour ours and cost CGAL exact arithmetic)
+//   --write DIR  only write the cow and the jittered 141 x 141 sheet through it as DIR/cow.obj
+//             and DIR/sheet.obj (the inputs of the whole-process comparison with
+//             untangle_bench_cgal_check, docs/PERFORMANCE.md)
 // Exit status: 0 success; 1 the cow is not installed (libcgal-demo); 2 pair counts disagree (or
 // the contours with and without the separation floods).
 //
@@ -26,10 +32,12 @@
 // change of machine load during the run falls on both sides alike.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <random>
 #include <string>
 #include <thread>
 #include <utility>
@@ -129,6 +137,18 @@ bool same_curves(const untangle::Intersections& a, const untangle::Intersections
   return true;
 }
 
+// Moves every vertex of the sheet (a grid, positions[0] and [1] neighbours) by up to 0.1 of its cell size along each axis,
+// the same way for every run (a fixed seed).
+void jitter_sheet(untangle::Mesh& sheet) {
+  const untangle::Vec3 &a = sheet.positions[0], &b = sheet.positions[1];
+  double cell = 0.0;
+  for (int k = 0; k < 3; ++k) cell = std::max(cell, std::abs(b[k] - a[k]));
+  std::mt19937 rng(24);
+  std::uniform_real_distribution<double> offset(-0.1 * cell, 0.1 * cell);
+  for (untangle::Vec3& p : sheet.positions)
+    for (double& c : p) c += offset(rng);
+}
+
 double ratio(const Stat& cgal, const Stat& ours) {
   return ours.median > 0.0 ? cgal.median / ours.median : 0.0;
 }
@@ -146,17 +166,25 @@ std::string best_median(const Stat& s) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool quick = false;
+  bool quick = false, jitter = false;
+  std::string write_dir;
   int profile_runs = 0;  // --profile N [between|self]: only ours at n = 81, N times
   std::string profile_part;  // empty: both
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
       quick = true;
+    } else if (std::strcmp(argv[i], "--jitter") == 0) {
+      jitter = true;
+    } else if (std::strcmp(argv[i], "--write") == 0 && i + 1 < argc) {
+      write_dir = argv[++i];
     } else if (std::strcmp(argv[i], "--profile") == 0 && i + 1 < argc) {
       profile_runs = std::max(1, std::atoi(argv[++i]));
       if (i + 1 < argc && argv[i + 1][0] != '-') profile_part = argv[++i];
     } else if (std::strcmp(argv[i], "-h") == 0 || std::strcmp(argv[i], "--help") == 0) {
-      std::printf("usage: %s [--quick] [--profile N [between|self]]\n  --quick  only n = 81 with 9 repeats\n"
+      std::printf("usage: %s [--quick] [--jitter] [--write DIR] [--profile N [between|self]]\n"
+                  "  --quick  only n = 81 with 9 repeats\n"
+                  "  --jitter  sheets jittered by up to 0.1 cell sizes (fixed seed)\n"
+                  "  --write DIR  only write DIR/cow.obj and DIR/sheet.obj (jittered, n = 141)\n"
                   "  --profile N  only ours at n = 81, N times: between the meshes, then the sheet "
                   "alone (for a profiler)\n",
                   argv[0]);
@@ -176,8 +204,19 @@ int main(int argc, char** argv) {
                  cow.empty() ? "" : " at ", cow.c_str());
     return 1;
   }
+  if (!write_dir.empty()) {
+    untangle::scenes::Scene scene = untangle::scenes::sheet_through_cow(141);
+    jitter_sheet(scene.movable.at(0));
+    std::filesystem::create_directories(write_dir);
+    const untangle::scenes::SceneFiles files = untangle::scenes::write_scene_files(scene, write_dir);
+    std::filesystem::rename(files.movable.at(0), std::filesystem::path(write_dir) / "sheet.obj");
+    std::filesystem::rename(files.obstacles.at(0), std::filesystem::path(write_dir) / "cow.obj");
+    std::printf("wrote %s/sheet.obj and %s/cow.obj\n", write_dir.c_str(), write_dir.c_str());
+    return 0;
+  }
   if (profile_runs > 0) {
-    const untangle::scenes::Scene scene = untangle::scenes::sheet_through_cow(81);
+    untangle::scenes::Scene scene = untangle::scenes::sheet_through_cow(81);
+    if (jitter) jitter_sheet(scene.movable.at(0));
     const std::vector<untangle::Mesh> meshes = untangle::scenes::scene_meshes(scene);
     if (profile_part != "self") {
       const OursRun run = run_ours(meshes, 0, profile_runs, false);
@@ -200,7 +239,8 @@ int main(int argc, char** argv) {
   bool mismatch = false;
   for (int n : sizes) {
     std::fprintf(stderr, "n = %d ...\n", n);
-    const untangle::scenes::Scene scene = untangle::scenes::sheet_through_cow(n);
+    untangle::scenes::Scene scene = untangle::scenes::sheet_through_cow(n);
+    if (jitter) jitter_sheet(scene.movable.at(0));
     std::vector<untangle::Mesh> meshes = scene.movable;
     meshes.insert(meshes.end(), scene.obstacles.begin(), scene.obstacles.end());
     if (meshes.size() != 2) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "untangle/mesh.h"
+#include "untangle/mesh_info.h"
 
 namespace untangle {
 
@@ -109,7 +110,9 @@ struct DetectTimings {
 
 // Finds every crossing between every pair of meshes and within each mesh, builds contours and
 // classifies their tracks. Deterministic. Never prints. Thread-safe for distinct inputs.
+// `infos`, when given, receives describe_mesh of every mesh, made from the topology detection
+// builds anyway (check describes its inputs: one welding per run instead of two).
 Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOptions& options = {},
-                                 DetectTimings* timings = nullptr);
+                                 DetectTimings* timings = nullptr, std::vector<MeshInfo>* infos = nullptr);
 
 }  // namespace untangle

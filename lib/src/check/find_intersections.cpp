@@ -8,6 +8,7 @@
 #include "detect/detect_crossings.h"
 #include "detect/run_parallel.h"
 #include "resolve/inside_vertices.h"
+#include "topology/describe_mesh.h"
 #include "topology/scene_topology.h"
 
 namespace untangle {
@@ -23,10 +24,14 @@ const char* to_string(TrackType type) {
 }
 
 Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOptions& options,
-                                 DetectTimings* timings) {
+                                 DetectTimings* timings, std::vector<MeshInfo>* infos) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   const SceneTopology topo = build_topology(meshes);
+  if (infos != nullptr) {
+    infos->clear();
+    for (std::size_t m = 0; m < meshes.size(); ++m) infos->push_back(describe_mesh_in(topo, m, meshes[m]));
+  }
   const auto t_topology = Clock::now();
   DetectSettings settings;
   settings.threads = options.threads;

@@ -336,7 +336,11 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
   run_parallel(settings.threads, meshes + chunks.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
       if (k < meshes) {
-        if (own_tree(k)) per_mesh[k] = std::make_unique<TriangleBvh>(topo, kept[k]);
+        if (own_tree(k)) {
+          per_mesh[k] = std::make_unique<TriangleBvh>(topo, kept[k]);
+          // Detection of the mesh's own pairs skips those inside flat patches (no crossing there).
+          if (prune && settings.self_pairs && !skipped(k)) per_mesh[k]->mark_flat_patches(topo);
+        }
         continue;
       }
       const Chunk& c = chunks[k - meshes];

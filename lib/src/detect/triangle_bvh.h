@@ -27,6 +27,20 @@ class TriangleBvh {
   // iterations of fix). Queries stay exact; only their speed depends on how far things moved.
   void refit(const SceneTopology& topology);
 
+  // Marks the subtrees whose triangles provably meet one another only in the vertices and edges
+  // they share (flat patches), so that each_pair_self and the self parts of each_pair_in skip the
+  // pairs inside them. A node qualifies when, projected along a coordinate axis, every one of its
+  // triangles turns the same strict way (exact orient_2d: a normal cone inside that axis'
+  // half-space) and the signed sum of its triangles' edges is one closed loop that projects to a
+  // simple polygon (exact tests, touching counts as crossing). Then the number of triangles
+  // covering a point of the plane is the polygon's winding number there, 0 or 1, and the patch
+  // projects one to one: two of its triangles meet in space only in a shared vertex or edge, so
+  // no edge can pass through a face under any perturbation (DESIGN.md, "Flat patches"). Only the
+  // speed of the self pairs depends on it, never which crossings are found.
+  void mark_flat_patches(const SceneTopology& topology);
+  // Triangles inside marked subtrees (all of them when the whole mesh is one flat patch).
+  std::size_t flat_patch_triangles() const;
+
   // Appends every indexed triangle whose box overlaps `box` (in no particular order).
   void query(const Box3& box, std::vector<std::uint32_t>& out) const;
   bool empty() const { return triangles_.empty(); }
@@ -61,11 +75,15 @@ class TriangleBvh {
   void each_pair_in(const TriangleBvh& other, Part part, bool self, const F& f) const {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
     stack.reserve(128);  // about the sum of the two depths
+    const bool flat = self && !flat_.empty();
+    // Both halves inside one flat patch (a part split off below a marked node): nothing to report.
+    if (flat && flat_[part.i] != kNone && flat_[part.i] == flat_[part.j]) return;
     stack.push_back({part.i, part.j});
     while (!stack.empty()) {
       const auto [i, j] = stack.back();
       stack.pop_back();
       if (self && i == j) {
+        if (flat && flat_[i] != kNone) continue;
         const Node& a = nodes_[i];
         if (a.count > 0) {
           for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
@@ -117,6 +135,8 @@ class TriangleBvh {
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> triangles_;
   std::vector<Box3> leaf_boxes_;  // per entry of triangles_
+  // Per node, once mark_flat_patches ran: the highest marked node whose subtree holds it, or kNone.
+  std::vector<std::uint32_t> flat_;
 };
 
 }  // namespace untangle

@@ -3,6 +3,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <string_view>
 
@@ -37,18 +38,30 @@ bool parse_double(std::string_view token, double& value) {
 }  // namespace
 
 Mesh read_obj(const std::string& path, Role role) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ExitCode::kUnreadableInput, path, "cannot open for reading");
+  // The whole file in one read, then split at '\n' in place (as getline would split it).
+  std::string text;
+  {
+    std::ifstream in(path, std::ios::binary | std::ios::ate);
+    if (!in) throw Error(ExitCode::kUnreadableInput, path, "cannot open for reading");
+    const std::streamoff size = in.tellg();
+    if (size < 0) throw Error(ExitCode::kUnreadableInput, path, "read error");
+    text.resize(static_cast<std::size_t>(size));
+    in.seekg(0);
+    if (!in.read(text.data(), size)) throw Error(ExitCode::kUnreadableInput, path, "read error");
+  }
   Mesh mesh;
   mesh.path = path;
   mesh.role = role;
-  std::string text;
   std::size_t number = 0;
   std::vector<long long> corners;
   std::size_t faces_total = 0;
-  while (std::getline(in, text)) {
+  const char* const end_of_text = text.data() + text.size();
+  for (const char* at = text.data(); at < end_of_text;) {
+    const char* newline = static_cast<const char*>(std::memchr(at, '\n', end_of_text - at));
+    const char* line_end = newline != nullptr ? newline : end_of_text;
+    std::string_view line(at, static_cast<std::size_t>(line_end - at));
+    at = newline != nullptr ? newline + 1 : end_of_text;
     ++number;
-    std::string_view line(text);
     const std::string_view keyword = next_token(line);
     if (keyword == "v") {
       Vec3 p{};
@@ -99,7 +112,6 @@ Mesh read_obj(const std::string& path, Role role) {
       mesh.group_names.push_back(name);
     }
   }
-  if (in.bad()) throw Error(ExitCode::kUnreadableInput, path, "read error");
   mesh.source_faces = faces_total;
   if (mesh.triangles.empty()) {
     throw Error(ExitCode::kUnreadableInput, path,

@@ -1,10 +1,11 @@
 // describe_mesh: the topological facts `untangle info` prints.
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
+#include <algorithm>
 #include <numeric>
 
 #include "geometry/vec3.h"
-#include "topology/scene_topology.h"
+#include "topology/describe_mesh.h"
 #include "untangle/mesh_info.h"
 
 namespace untangle {
@@ -26,23 +27,29 @@ struct UnionFind {
 
 }  // namespace
 
-MeshInfo describe_mesh(const Mesh& mesh) {
+MeshInfo describe_mesh(const Mesh& mesh) { return describe_mesh_in(build_topology({mesh}), 0, mesh); }
+
+// Mesh m's welded vertices, triangles and edges are contiguous ranges of the scene's (welding is
+// per mesh, edges sorted by their lower vertex) in the order a topology of the mesh alone has
+// them, so every figure, sums included, comes out as from that topology.
+MeshInfo describe_mesh_in(const SceneTopology& topo, std::size_t m, const Mesh& mesh) {
   using K = CGAL::Exact_predicates_inexact_constructions_kernel;
   MeshInfo info;
   info.vertices = mesh.positions.size();
   info.faces = mesh.source_faces;
   info.triangles = mesh.triangles.size();
-  const SceneTopology topo = build_topology({mesh});
-  info.welded_vertices = topo.points.size();
-  info.degenerate_triangles = topo.degenerate[0];
+  const std::uint32_t first = topo.mesh_vertex_begin[m], last = topo.mesh_vertex_begin[m + 1];
+  info.welded_vertices = last - first;
+  info.degenerate_triangles = topo.degenerate[m];
 
-  UnionFind components(topo.points.size());
-  std::vector<std::uint8_t> used(topo.points.size(), 0);
+  UnionFind components(last - first);
+  std::vector<std::uint8_t> used(last - first, 0);
   double edge_sum = 0.0;
-  for (const auto& tri : topo.tris) {
-    for (std::uint32_t v : tri) used[v] = 1;
-    components.join(tri[0], tri[1]);
-    components.join(tri[1], tri[2]);
+  for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) {
+    const auto& tri = topo.tris[t];
+    for (std::uint32_t v : tri) used[v - first] = 1;
+    components.join(tri[0] - first, tri[1] - first);
+    components.join(tri[1] - first, tri[2] - first);
     const Vec3 &a = topo.points[tri[0]], &b = topo.points[tri[1]], &c = topo.points[tri[2]];
     if (CGAL::collinear(K::Point_3(a[0], a[1], a[2]), K::Point_3(b[0], b[1], b[2]),
                         K::Point_3(c[0], c[1], c[2]))) {
@@ -50,14 +57,20 @@ MeshInfo describe_mesh(const Mesh& mesh) {
     }
     info.area += triangle_area(a, b, c);
   }
-  for (std::uint32_t v = 0; v < topo.points.size(); ++v)
+  for (std::uint32_t v = 0; v < last - first; ++v)
     if (used[v] && components.find(v) == v) ++info.components;
 
-  UnionFind loops(topo.points.size());
-  std::vector<std::uint8_t> on_boundary(topo.points.size(), 0);
-  for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
-    const auto& edge = topo.edges[e];
-    const Vec3 &a = topo.points[edge[0]], &b = topo.points[edge[1]];
+  const auto edge_at = [&](std::uint32_t v) {
+    return static_cast<std::uint32_t>(
+        std::lower_bound(topo.edges.begin(), topo.edges.end(), std::array<std::uint32_t, 2>{v, 0u}) -
+        topo.edges.begin());
+  };
+  const std::uint32_t edge_first = edge_at(first), edge_last = edge_at(last);
+  UnionFind loops(last - first);
+  std::vector<std::uint8_t> on_boundary(last - first, 0);
+  for (std::uint32_t e = edge_first; e < edge_last; ++e) {
+    const std::array<std::uint32_t, 2> edge{topo.edges[e][0] - first, topo.edges[e][1] - first};
+    const Vec3 &a = topo.points[topo.edges[e][0]], &b = topo.points[topo.edges[e][1]];
     edge_sum += norm(sub(a, b));
     const std::size_t faces = topo.edge_face_count(e);
     if (faces >= 3) ++info.non_manifold_edges;
@@ -67,10 +80,11 @@ MeshInfo describe_mesh(const Mesh& mesh) {
       on_boundary[edge[0]] = on_boundary[edge[1]] = 1;
     }
   }
-  for (std::uint32_t v = 0; v < topo.points.size(); ++v)
+  for (std::uint32_t v = 0; v < last - first; ++v)
     if (on_boundary[v] && loops.find(v) == v) ++info.boundary_loops;
-  info.closed = info.boundary_edges == 0 && info.non_manifold_edges == 0 && !topo.tris.empty();
-  if (!topo.edges.empty()) info.mean_edge_length = edge_sum / static_cast<double>(topo.edges.size());
+  const bool no_triangles = topo.mesh_tri_begin[m] == topo.mesh_tri_begin[m + 1];
+  info.closed = info.boundary_edges == 0 && info.non_manifold_edges == 0 && !no_triangles;
+  if (edge_last > edge_first) info.mean_edge_length = edge_sum / static_cast<double>(edge_last - edge_first);
   return info;
 }
 
