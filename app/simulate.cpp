@@ -18,6 +18,7 @@
 #include "output_plan.h"
 #include "scenes/random_tangles.h"
 #include "scenes/scenes.h"
+#include "scenes/sim_examples.h"
 #include "untangle/error.h"
 #include "untangle/intersections.h"
 #include "untangle/read_meshes.h"
@@ -32,30 +33,6 @@ namespace fs = std::filesystem;
 
 // A frame with an edge longer than this many times its rest length is not clean.
 constexpr double kMaxStretch = 2.0;
-
-// The examples: a 21 x 21 sheet (1.6 a side, slightly tilted) dropped from 0.2 above a ball of
-// radius 0.5, onto a closed box, or a 25 x 25 sheet onto 4 x 4 cone spikes; metres, y up.
-SimulationScene example_scene(const std::string& name) {
-  SimulationScene scene;
-  if (name == "spikes") {
-    scene.meshes.push_back(scenes::grid_sheet(25, 25, {-1.0, 0.45, -1.0}, {2.0, 0.0, 0.017},
-                                              {0.013, 0.0, 2.0}, "sheet"));
-    Mesh spikes = scenes::cone_spikes({0.0, 0.0, 0.0}, 1.6, 4, 0.4, "spikes");
-    for (Vec3& p : spikes.positions) p = Vec3{p[0], p[2], -p[1]};  // tips up (+y)
-    scene.meshes.push_back(std::move(spikes));
-  } else {
-    scene.meshes.push_back(scenes::grid_sheet(21, 21, {-0.8, 0.7, -0.8}, {1.6, 0.013, 0.0},
-                                              {0.0, -0.011, 1.6}, "sheet"));
-    if (name == "ball")
-      scene.meshes.push_back(scenes::uv_sphere({0.01, 0.0, -0.02}, 0.5, 32, 16, "ball"));
-    else if (name == "box")
-      scene.meshes.push_back(scenes::box_surface({0.0, 0.0, 0.0}, {1.5, 0.5, 1.5}, 8, "box"));
-    else
-      throw Error(ExitCode::kUsage, "", "unknown example '" + name + "' (ball, box or spikes)");
-  }
-  scene.meshes.back().role = Role::kObstacle;
-  return scene;
-}
 
 std::string frame_path(const fs::path& dir, const std::string& stem, int frame) {
   char digits[16];
@@ -128,13 +105,17 @@ SimulationScene load_scene_file(const std::string& file, std::vector<SceneInput>
     const std::map<std::string, double*> numbers = {
         {"time_step", &o.time_step},     {"stretch", &o.stretch},    {"bend", &o.bend},
         {"damping", &o.damping},         {"density", &o.density},    {"friction", &o.friction},
-        {"restitution", &o.restitution}, {"max_speed", &o.max_speed}};
+        {"restitution", &o.restitution}, {"max_speed", &o.max_speed},
+        {"release_distance", &o.release_distance}};
     const std::map<std::string, int*> counts = {{"substeps", &o.substeps},
                                                 {"solver_iterations", &o.solver_iterations}};
     for (const auto& [key, value] : c.items()) {
       const std::string name = "cloth." + key;
       if (key == "gravity") {
         o.gravity = vec3(value, name);
+      } else if (key == "hold_contacts") {
+        if (!value.is_boolean()) bad_key(file, name, "must be true or false");
+        o.hold_contacts = value.get<bool>();
       } else if (const auto n = numbers.find(key); n != numbers.end()) {
         *n->second = number(value, name);
       } else if (const auto k = counts.find(key); k != counts.end()) {
@@ -240,7 +221,7 @@ int run_simulate(const SimulateOptions& o) {
   int frames = o.frames;
   int scene_frames = 0;
   SimulationScene scene = o.scene_file.empty()
-                              ? example_scene(o.example)
+                              ? scenes::simulation_example(o.example)
                               : load_scene_file(o.scene_file, inputs, scene_frames);
   if (!o.frames_given && scene_frames > 0) frames = scene_frames;
   scene.options.fix.threads = o.threads;
@@ -317,7 +298,8 @@ int run_simulate(const SimulateOptions& o) {
                        {"substeps", c.substeps},   {"solver_iterations", c.solver_iterations},
                        {"stretch", c.stretch},     {"bend", c.bend},
                        {"damping", c.damping},     {"friction", c.friction},
-                       {"max_speed", c.max_speed}, {"clearance", c.fix.clearance}};
+                       {"max_speed", c.max_speed}, {"hold_contacts", c.hold_contacts},
+                       {"release_distance", c.release_distance}, {"clearance", c.fix.clearance}};
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   const std::vector<Mesh> start_meshes = scene.meshes;
   RenderCamera camera;
@@ -326,15 +308,17 @@ int run_simulate(const SimulateOptions& o) {
   Simulation sim(std::move(scene));
   const bool progress = !o.quiet && isatty(STDERR_FILENO);
   std::size_t bad_frames = 0, overstretched = 0;
-  double integrate_ms = 0.0, correct_ms = 0.0;
+  double integrate_ms = 0.0, detect_ms = 0.0, correct_ms = 0.0;
   for (int f = 1; f <= frames; ++f) {
     const FrameRecord r = sim.advance();
     integrate_ms += r.integrate_ms;
+    detect_ms += r.detect_ms;
     correct_ms += r.correct_ms;
     nlohmann::ordered_json row = {{"frame", r.frame},
                                   {"crossings_before", r.crossings_before},
                                   {"crossings_after", r.crossings_after},
                                   {"correction_iterations", r.correction_iterations},
+                                  {"corrected_steps", r.corrected_steps},
                                   {"uncorrected_steps", r.uncorrected_steps},
                                   {"kinetic_energy", r.kinetic_energy},
                                   {"max_stretch", r.max_stretch}};
@@ -376,9 +360,12 @@ int run_simulate(const SimulateOptions& o) {
     }
     // Zero crossings is not enough: an edge beyond twice its rest length is cloth torn or flung.
     if (r.max_stretch > kMaxStretch) ++overstretched;
-    row["timing_ms"] = {{"integrate", r.integrate_ms}, {"correct", r.correct_ms}};
+    row["timing_ms"] = {
+        {"integrate", r.integrate_ms}, {"detect", r.detect_ms}, {"correct", r.correct_ms}};
     rows.push_back(row);
-    if (progress) std::fprintf(stderr, "\rframe %d of %d", f, frames);
+    if (progress)
+      std::fprintf(stderr, "\rframe %d of %d, %.0f ms", f, frames,
+                   r.integrate_ms + r.detect_ms + r.correct_ms);
   }
   if (progress) std::fprintf(stderr, "\n");
   if (!o.preview.empty() && sheet.width > 0)
@@ -389,7 +376,8 @@ int run_simulate(const SimulateOptions& o) {
   report["status"] = clean ? "clean" : bad_frames > 0 ? "unresolved" : "overstretched";
   report["frames_with_crossings"] = bad_frames;
   report["frames_overstretched"] = overstretched;
-  report["timing_ms"] = {{"integrate", integrate_ms}, {"correct", correct_ms}};
+  report["timing_ms"] = {
+      {"integrate", integrate_ms}, {"detect", detect_ms}, {"correct", correct_ms}};
   if (o.report == "-") {
     std::printf("%s\n", report.dump(2).c_str());
   } else {

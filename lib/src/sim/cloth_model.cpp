@@ -95,7 +95,8 @@ void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
 }
 
 void integrate_step(const ClothModel& model, const ClothOptions& options, double h,
-                    std::vector<Vec3>& x, const std::vector<Vec3>& v) {
+                    std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                    const std::vector<ContactPlane>& contacts) {
   const std::size_t n = x.size();
   if (!model.factored) return;
   // The inertial target s = x + h v + h^2 g; pinned particles stay.
@@ -129,6 +130,11 @@ void integrate_step(const ClothModel& model, const ClothOptions& options, double
       const Eigen::VectorXd solved = model.solver.solve(rhs[c]);
       for (std::size_t i = 0; i < n; ++i)
         if (model.unknown[i] != kNone) now[i][c] = solved[model.unknown[i]];
+    }
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
+      if (!contacts[i].active || model.unknown[i] == kNone) continue;
+      const double below = dot(sub(now[i], contacts[i].point), contacts[i].normal);
+      if (below < 0.0) now[i] = sub(now[i], scale(contacts[i].normal, below));
     }
   }
   x = std::move(now);

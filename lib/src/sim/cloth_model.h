@@ -38,9 +38,21 @@ struct ClothModel {
 void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
                        const ClothOptions& options, ClothModel& model);
 
-// One step of `h` seconds without collisions: x and v (per particle) in, x the predicted end of
-// the step out (v unchanged; the caller sets it from the corrected positions).
+// A contact left by an earlier correction: the particle stays on the outer side of the plane
+// through `point` with unit normal `normal` (the direction the correction moved it).
+struct ContactPlane {
+  bool active = false;
+  Vec3 point{0.0, 0.0, 0.0};
+  Vec3 normal{0.0, 0.0, 0.0};
+};
+
+// One step of `h` seconds: x and v (per particle) in, x the predicted end of the step out (v
+// unchanged; the caller sets it from the corrected positions). A particle with an active contact
+// plane (`contacts`, per particle, or empty) is projected back onto the plane's outer side after
+// every global solve: contacts are constraints of the solve, so the stiff edges cannot pull a
+// corrected particle back through what it lies on (that pumped energy into a sheet on spikes).
 void integrate_step(const ClothModel& model, const ClothOptions& options, double h,
-                    std::vector<Vec3>& x, const std::vector<Vec3>& v);
+                    std::vector<Vec3>& x, const std::vector<Vec3>& v,
+                    const std::vector<ContactPlane>& contacts = {});
 
 }  // namespace untangle

@@ -5,6 +5,7 @@
 
 #include "geometry/vec3.h"
 #include "sim/cloth_model.h"
+#include "sim/step_detector.h"
 #include "untangle/error.h"
 #include "untangle/simulate.h"
 
@@ -15,6 +16,8 @@ struct Simulation::State {
   ClothModel model;
   std::vector<Vec3> x, v;                        // per particle
   std::vector<std::vector<Vec3>> obstacle_rest;  // per mesh: positions at frame 0 (obstacles)
+  std::unique_ptr<StepDetector> detector;        // kept across steps (correct only)
+  std::vector<ContactPlane> contacts;            // per particle (ClothOptions::hold_contacts)
   int frame = 0;
   double h = 0.0;
 };
@@ -41,6 +44,8 @@ void check_options(const ClothOptions& o) {
   if (!(o.friction >= 0.0 && o.friction <= 1.0)) bad("friction must be in [0, 1]");
   if (!(o.restitution >= 0.0 && o.restitution <= 1.0)) bad("restitution must be in [0, 1]");
   if (!(o.max_speed > 0.0) || !std::isfinite(o.max_speed)) bad("max_speed must be positive");
+  if (!(o.release_distance > 0.0) || !std::isfinite(o.release_distance))
+    bad("release_distance must be positive");
   for (double g : o.gravity)
     if (!std::isfinite(g)) bad("gravity must be finite");
 }
@@ -77,9 +82,12 @@ Simulation::Simulation(SimulationScene scene) : state_(std::make_unique<State>()
   build_cloth_model(s.scene.meshes, s.scene.pins, s.scene.options, s.model);
   s.x = s.model.topo.points;
   s.v.assign(s.x.size(), Vec3{0.0, 0.0, 0.0});
+  s.contacts.assign(s.x.size(), ContactPlane{});
   s.obstacle_rest.resize(s.scene.meshes.size());
   for (std::size_t m = 0; m < s.scene.meshes.size(); ++m)
     if (s.scene.meshes[m].role == Role::kObstacle) s.obstacle_rest[m] = s.scene.meshes[m].positions;
+  if (s.scene.options.correct)
+    s.detector = std::make_unique<StepDetector>(s.scene.meshes, s.scene.options.fix.threads);
 }
 
 Simulation::~Simulation() = default;
@@ -96,45 +104,72 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
   for (int step = 0; step < o.substeps; ++step) {
     // Scheduled obstacles at the end of this step.
     const double t = s.frame + static_cast<double>(step + 1) / o.substeps;
+    bool obstacles_moved = false;
     for (const ObstacleSchedule& schedule : s.scene.schedules) {
-      const double u = schedule.frames > 0 ? std::min(1.0, t / schedule.frames) : 1.0;
+      const double t_before = t - 1.0 / o.substeps;
+      if (schedule.frames <= 0 || t_before >= schedule.frames) continue;  // at 1 already
+      const double u = std::min(1.0, t / schedule.frames);
       const double factor = schedule.from + (1.0 - schedule.from) * u;
       Mesh& mesh = s.scene.meshes[schedule.mesh];
       const std::vector<Vec3>& rest = s.obstacle_rest[schedule.mesh];
       for (std::size_t i = 0; i < rest.size(); ++i)
         mesh.positions[i] = add(schedule.centre, scale(sub(rest[i], schedule.centre), factor));
+      obstacles_moved = true;
     }
     const auto t0 = Clock::now();
     const std::vector<Vec3> start = s.x;
     for (Vec3& vel : s.v) vel = scale(vel, keep);
-    integrate_step(s.model, o, s.h, s.x, s.v);
+    integrate_step(s.model, o, s.h, s.x, s.v, s.contacts);
+    if (round)
+      for (Vec3& p : s.x) p = round(p);
     to_meshes(s.model, s.x, s.scene.meshes);
     const std::vector<Vec3> predicted = s.x;
     const auto t1 = Clock::now();
     record.integrate_ms += ms(t0, t1);
     if (o.correct) {
-      const FixResult fixed = fix_meshes(s.scene.meshes, o.fix, s.scene.pins, round);
-      record.crossings_before += fixed.before.crossings;
-      record.crossings_after = fixed.after.crossings;
-      record.correction_iterations += fixed.iterations;
-      record.corrected = fixed.clean;
-      if (!fixed.clean) ++record.uncorrected_steps;
-      from_meshes(s.model, s.scene.meshes, s.x);
-    } else if (round) {
-      for (Vec3& p : s.x) p = round(p);
-      to_meshes(s.model, s.x, s.scene.meshes);
+      // Detection first, incrementally: the repair runs only where it finds something.
+      s.detector->detect(s.scene.meshes, obstacles_moved);
+      const auto t2 = Clock::now();
+      record.detect_ms += ms(t1, t2);
+      const std::size_t found = s.detector->crossings() + s.detector->inside_vertices();
+      if (found == 0) {
+        record.crossings_after = 0;
+        record.corrected = true;
+      } else {
+        const FixResult fixed = fix_meshes(s.scene.meshes, o.fix, s.scene.pins, round);
+        record.crossings_before += fixed.before.crossings;
+        record.crossings_after = fixed.after.crossings;
+        record.correction_iterations += fixed.iterations;
+        record.corrected = fixed.clean;
+        if (!fixed.clean) ++record.uncorrected_steps;
+        ++record.corrected_steps;
+        from_meshes(s.model, s.scene.meshes, s.x);
+      }
+      record.correct_ms += ms(t2, Clock::now());
     }
-    record.correct_ms += ms(t1, Clock::now());
     // Velocities follow the positions. Where the correction moved a particle by d, it was in
     // contact: the velocity toward the other surface (against d) is taken out and the tangential
     // part reduced by the friction, rather than d / h turned into velocity, which made the cloth
     // bounce off what it lands on (measured: kinetic energy stayed at a quarter of the impact's).
+    // With hold_contacts the particle keeps the plane through its corrected position across d as a
+    // constraint of the next steps, until it has left it (lifted or slid away by
+    // release_distance).
+    const double release = o.release_distance * s.model.mean_edge;
     for (std::size_t i = 0; i < s.x.size(); ++i) {
       Vec3 vel = scale(sub(predicted[i], start[i]), 1.0 / s.h);
       const Vec3 d = sub(s.x[i], predicted[i]);
       const double length = norm(d);
+      ContactPlane& contact = s.contacts[i];
       if (length > 0.0) {
-        const Vec3 n = scale(d, 1.0 / length);
+        if (o.hold_contacts) contact = {true, s.x[i], scale(d, 1.0 / length)};
+      } else if (contact.active) {
+        const Vec3 off = sub(s.x[i], contact.point);
+        const double above = dot(off, contact.normal);
+        if (above > release || norm(sub(off, scale(contact.normal, above))) > 4.0 * release)
+          contact.active = false;
+      }
+      if (length > 0.0 || contact.active) {
+        const Vec3 n = length > 0.0 ? scale(d, 1.0 / length) : contact.normal;
         const double toward = dot(vel, n);
         if (toward < 0.0) vel = sub(vel, scale(n, toward));
         const Vec3 tangential = sub(vel, scale(n, dot(vel, n)));
