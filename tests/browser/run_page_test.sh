@@ -36,7 +36,7 @@ page missing '<img src="shirt.png"><img src="no_such.png">'
 page fake '<img src="shirt.png"><img src="fake.png">'
 page console '<img src="shirt.png"><script>console.error("deliberate console error")</script>'
 page exception '<script>null.property</script><p>text</p>'
-page click '<p id="p" onclick="this.textContent = \x27clicked\x27">text</p><button onclick="null.property">x</button>'
+page click "<p id=\"p\" onclick=\"this.textContent = 'clicked'\">text</p><button onclick=\"null.property\">x</button>"
 
 failed=0
 fail() {
