@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Opens a local HTML page in headless Chromium and checks it: no console error, no uncaught
-exception, no failed load, every <img> decoded (naturalWidth > 0), every --eval expression true;
-writes a screenshot.
+exception, no failed load, every <img> decoded (naturalWidth > 0; lazy ones are loaded first), every
+--eval expression true; writes a screenshot.
 
     tests/browser/check_page.py PAGE.html SHOT.png [--size WxH] [--timeout S] [--eval JS]...
 
@@ -30,6 +30,15 @@ import time
 # How long the page may stay quiet after its load event before it is judged: errors of scripts
 # that run later than that are not seen.
 SETTLE_SECONDS = 0.5
+
+# Lazy images (loading="lazy", as in a batch's summary.html) load only once scrolled near: made
+# eager, so that every <img> of a long page is loaded and judged; resolves when all have loaded or
+# failed, to how many were lazy.
+LOAD_LAZY_JS = """Promise.all(Array.from(document.images, img => {
+  if (img.loading === 'lazy') { img.loading = 'eager'; img.dataset.wasLazy = '1'; }
+  return img.complete ? null : new Promise(done => {
+    img.addEventListener('load', done); img.addEventListener('error', done); });
+})).then(() => document.querySelectorAll('img[data-was-lazy]').length)"""
 
 IMAGES_JS = """JSON.stringify(Array.from(document.images, img => ({
   src: img.currentSrc || img.src, complete: img.complete, width: img.naturalWidth})))"""
@@ -182,6 +191,8 @@ def main():
         browser.wait_for("Page.loadEventFired")
         browser.drain(SETTLE_SECONDS)
         failures = []
+        lazy = browser.send("Runtime.evaluate", {"expression": LOAD_LAZY_JS, "awaitPromise": True,
+                            "returnByValue": True}, session=session)["result"]["value"]
         images = json.loads(browser.send("Runtime.evaluate", {"expression": IMAGES_JS,
                             "returnByValue": True}, session=session)["result"]["value"])
         for image in images:
@@ -215,7 +226,7 @@ def main():
     shutil.rmtree(profile, ignore_errors=True)
     for line in failures:
         print(f"{args.page}: {line}", file=sys.stderr)
-    print(f"{args.page}: {len(images)} images, {len(failures)} failures; wrote {args.shot}")
+    print(f"{args.page}: {len(images)} images ({lazy} lazy), {len(failures)} failures; wrote {args.shot}")
     return 1 if failures else 0
 
 
