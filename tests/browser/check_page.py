@@ -1,8 +1,13 @@
 #!/usr/bin/env python3
 """Opens a local HTML page in headless Chromium and checks it: no console error, no uncaught
-exception, no failed load, every <img> decoded (naturalWidth > 0); writes a screenshot.
+exception, no failed load, every <img> decoded (naturalWidth > 0; lazy ones are loaded first), every
+--eval expression true; writes a screenshot.
 
-    tests/browser/check_page.py PAGE.html SHOT.png [--size WxH] [--timeout S]
+    tests/browser/check_page.py PAGE.html SHOT.png [--size WxH] [--timeout S] [--eval JS]...
+
+--eval JS runs after the load (in the order given, the screenshot after the last): an expression
+whose value is not `true` (or that throws) is a failure, its value named; one that clicks something
+and then yields `true` (`el.click(), true`) acts on the page.
 
 Exit 0 when the page passes, 1 when a check fails (each failure one line on stderr), 2 on usage
 errors, 3 when Chromium could not be started or did not answer in time. It talks to Chromium
@@ -25,6 +30,15 @@ import time
 # How long the page may stay quiet after its load event before it is judged: errors of scripts
 # that run later than that are not seen.
 SETTLE_SECONDS = 0.5
+
+# Lazy images (loading="lazy", as in a batch's summary.html) load only once scrolled near: made
+# eager, so that every <img> of a long page is loaded and judged; resolves when all have loaded or
+# failed, to how many were lazy.
+LOAD_LAZY_JS = """Promise.all(Array.from(document.images, img => {
+  if (img.loading === 'lazy') { img.loading = 'eager'; img.dataset.wasLazy = '1'; }
+  return img.complete ? null : new Promise(done => {
+    img.addEventListener('load', done); img.addEventListener('error', done); });
+})).then(() => document.querySelectorAll('img[data-was-lazy]').length)"""
 
 IMAGES_JS = """JSON.stringify(Array.from(document.images, img => ({
   src: img.currentSrc || img.src, complete: img.complete, width: img.naturalWidth})))"""
@@ -139,6 +153,8 @@ def main():
     parser.add_argument("--size", default="1280x800", help="the window, WxH (default 1280x800)")
     parser.add_argument("--timeout", type=float, default=60,
                         help="seconds for the whole check (default 60)")
+    parser.add_argument("--eval", action="append", default=[], metavar="JS", dest="evals",
+                        help="after the load, an expression that must be true (repeatable)")
     args = parser.parse_args()
     if not args.page.is_file():
         print(f"error: {args.page}: no such file", file=sys.stderr)
@@ -174,12 +190,27 @@ def main():
         browser.send("Page.navigate", {"url": args.page.resolve().as_uri()}, session=session)
         browser.wait_for("Page.loadEventFired")
         browser.drain(SETTLE_SECONDS)
-        failures = failures_in(browser.events)
+        failures = []
+        lazy = browser.send("Runtime.evaluate", {"expression": LOAD_LAZY_JS, "awaitPromise": True,
+                            "returnByValue": True}, session=session)["result"]["value"]
         images = json.loads(browser.send("Runtime.evaluate", {"expression": IMAGES_JS,
                             "returnByValue": True}, session=session)["result"]["value"])
         for image in images:
             if not image["complete"] or image["width"] <= 0:
                 failures.append(f"image not decoded (naturalWidth {image['width']}): {image['src']}")
+        for expression in args.evals:
+            reply = browser.send("Runtime.evaluate", {"expression": expression, "returnByValue": True},
+                                 session=session)
+            if "exceptionDetails" in reply:
+                details = reply["exceptionDetails"]
+                text = details.get("exception", {}).get("description") or details.get("text")
+                failures.append(f"--eval {expression}: threw {text}")
+            elif reply["result"].get("value") is not True:
+                value = reply["result"].get("value", reply["result"].get("description"))
+                failures.append(f"--eval {expression}: is {json.dumps(value)}, not true")
+        if args.evals:
+            browser.drain(SETTLE_SECONDS)  # what the expressions set off (a click's handler)
+        failures = failures_in(browser.events) + failures
         shot = browser.send("Page.captureScreenshot", {"format": "png", "captureBeyondViewport": True},
                             session=session)
         args.shot.write_bytes(base64.b64decode(shot["data"]))
@@ -195,7 +226,7 @@ def main():
     shutil.rmtree(profile, ignore_errors=True)
     for line in failures:
         print(f"{args.page}: {line}", file=sys.stderr)
-    print(f"{args.page}: {len(images)} images, {len(failures)} failures; wrote {args.shot}")
+    print(f"{args.page}: {len(images)} images ({lazy} lazy), {len(failures)} failures; wrote {args.shot}")
     return 1 if failures else 0
 
 

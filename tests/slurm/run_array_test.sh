@@ -7,6 +7,7 @@
 #   tests/slurm/run_array_test.sh SCRIPT [CHECK...] SCRIPT as it is (its own #SBATCH lines), then
 #                                                   CHECK, whose exit status decides
 # The work folder is $UNTANGLE_SLURM_WORK (exported to the job and CHECK); the job runs there.
+# CHECK also gets the submitted job's id in $UNTANGLE_SLURM_JOB_ID (for a --dependency on it).
 set -euo pipefail
 
 if [[ "${UNTANGLE_SLURM_TEST:-0}" != "1" ]]; then
@@ -43,6 +44,9 @@ submit() {
   fi
   cat "$run/sbatch.out"
   echo "array job done in $((SECONDS - start)) s"
+  UNTANGLE_SLURM_JOB_ID="$(sed -n 's/^Submitted batch job \([0-9]*\)$/\1/p' "$run/sbatch.out")"
+  [[ -n "$UNTANGLE_SLURM_JOB_ID" ]] || { echo "error: no job id in sbatch's output" >&2; exit 1; }
+  export UNTANGLE_SLURM_JOB_ID
 }
 
 if (($# > 0)); then
@@ -60,8 +64,7 @@ cat > "$run/tasks.sh" <<'JOB'
 printf '%s %s\n' "$SLURM_ARRAY_TASK_ID" "$SLURM_ARRAY_JOB_ID" > "task_$SLURM_ARRAY_TASK_ID.txt"
 JOB
 submit --array=0-4 "$run/tasks.sh"
-job_id="$(sed -n 's/^Submitted batch job \([0-9]*\)$/\1/p' "$run/sbatch.out")"
-[[ -n "$job_id" ]] || { echo "error: no job id in sbatch's output" >&2; exit 1; }
+job_id="$UNTANGLE_SLURM_JOB_ID"
 
 failed=0
 for i in 0 1 2 3 4; do
