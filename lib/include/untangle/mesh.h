@@ -22,6 +22,8 @@ const char* to_string(Role role);
 struct Mesh {
   std::string path;  // file the mesh came from
   std::string name;  // mesh name inside the file (may be empty)
+  // The name of the node that places this mesh (assimp formats; empty for OBJ and plain OFF).
+  std::string node_name;
   Role role = Role::kMovable;
   std::vector<Vec3> positions;
   std::vector<Triangle> triangles;  // indices into positions
