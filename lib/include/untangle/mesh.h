@@ -33,6 +33,9 @@ struct Mesh {
   // of its group in group_names, or none when group_names is empty.
   std::vector<std::string> group_names;
   std::vector<std::uint32_t> triangle_group;
+  // OBJ: per group, the name of the `o` line in effect where it starts (its own for an `o`
+  // group, empty before the first `o`); empty for other formats.
+  std::vector<std::string> group_objects;
 };
 
 // A label for messages and reports: "path" or "path:name" when the file holds several meshes.

@@ -26,10 +26,11 @@ struct NamePatterns {
 
 // The names a mesh offers to the patterns. OBJ (and anything with named groups): per triangle the
 // `o` or `g` line it follows, the whole text after the keyword and each of its words (`g a b`
-// offers "a b", "a" and "b"); the mesh as a whole offers nothing. Other formats: the mesh's own
-// name and the name of the node that places it (glTF: the mesh's name, or "<name>-<k>" for its
-// k-th primitive when it has several, and the node's name; FBX, Collada, 3DS: the mesh and node
-// names assimp reports). The names of the group of `triangle` for grouped meshes, else of the mesh.
+// offers "a b", "a" and "b"), and the name of the `o` line in effect (`o shirt` then `g sleeve`:
+// "sleeve" and "shirt"); the mesh as a whole offers nothing. Other formats: the mesh's own
+// name and the name of the node that places it (glTF 2: the mesh's name, or "<name>-<k>" for its
+// k-th primitive when it has several, and the node's name; glTF 1.0: the ids instead of the
+// names; FBX, Collada, 3DS: the mesh and node names assimp reports). The names of the group of `triangle` for grouped meshes, else of the mesh.
 std::vector<std::string> names_of(const Mesh& mesh, std::size_t triangle = 0);
 
 // Every distinct name the meshes offer, in first-seen order (for `untangle info` and errors).

@@ -429,6 +429,7 @@ std::vector<Mesh> read_meshes(const std::string& path, Role role) {
     mesh.name = valid_utf8(mesh.name);
     mesh.node_name = valid_utf8(mesh.node_name);
     for (std::string& group : mesh.group_names) group = valid_utf8(group);
+    for (std::string& object : mesh.group_objects) object = valid_utf8(object);
   }
   return meshes;
 }

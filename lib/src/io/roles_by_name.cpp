@@ -73,6 +73,7 @@ Mesh part_of(const Mesh& source, const std::vector<Role>& triangle_role, Role ro
   part.role = role;
   part.source_faces = source.source_faces;
   part.group_names = source.group_names;
+  part.group_objects = source.group_objects;
   std::vector<std::uint32_t> index(source.positions.size(), kUnused);
   for (std::size_t t = 0; t < source.triangles.size(); ++t)
     if (triangle_role[t] == role)
@@ -112,6 +113,9 @@ std::vector<std::string> names_of(const Mesh& mesh, std::size_t triangle) {
     std::istringstream words(group);
     std::string word;
     while (words >> word) add_name(word, names);
+    // A `g` group inside an object answers to the object's name too.
+    const std::uint32_t g = mesh.triangle_group[triangle];
+    if (g < mesh.group_objects.size()) add_name(mesh.group_objects[g], names);
     return names;
   }
   add_name(mesh.name, names);

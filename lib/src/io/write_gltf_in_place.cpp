@@ -268,7 +268,7 @@ bool write_gltf_in_place(const std::string& input, const std::string& staged,
     }
   }
   std::ofstream file(staged, std::ios::binary);
-  file << j.dump(2) << '\n';
+  file << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
   file.flush();
   if (!file) throw Error(ExitCode::kOutputNotWritten, staged, "write failed");
   return true;

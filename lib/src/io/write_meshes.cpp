@@ -136,6 +136,33 @@ std::string export_format(const Assimp::Exporter& exporter, const std::string& e
   return found;
 }
 
+// Texture files named relative to the input are named relative to the output's folder instead,
+// so that the exported file still finds them (embedded textures, "*<k>", stay as they are).
+void keep_texture_paths(aiScene& scene, const std::string& input, const std::string& final_folder) {
+  std::error_code ec;
+  const fs::path from = fs::absolute(fs::path(input).parent_path(), ec).lexically_normal();
+  const fs::path to = fs::absolute(final_folder, ec).lexically_normal();
+  if (from == to) return;
+  for (unsigned m = 0; m < scene.mNumMaterials; ++m) {
+    aiMaterial& material = *scene.mMaterials[m];
+    for (int type = aiTextureType_DIFFUSE; type <= AI_TEXTURE_TYPE_MAX; ++type) {
+      const auto t = static_cast<aiTextureType>(type);
+      for (unsigned k = 0; k < material.GetTextureCount(t); ++k) {
+        aiString path;
+        if (material.GetTexture(t, k, &path) != AI_SUCCESS) continue;
+        const std::string name = path.C_Str();
+        if (name.empty() || name[0] == '*' || name.rfind("data:", 0) == 0 || fs::path(name).is_absolute() ||
+            name.find("://") != std::string::npos)
+          continue;
+        const fs::path moved = (from / name).lexically_normal().lexically_relative(to);
+        if (moved.empty()) continue;
+        const aiString replaced(moved.generic_string());
+        material.AddProperty(&replaced, AI_MATKEY_TEXTURE(t, k));
+      }
+    }
+  }
+}
+
 void write_with_assimp(const std::string& input, const std::string& output,
                        const std::string& final_folder, const std::vector<const Mesh*>& meshes) {
   Assimp::Importer importer;
@@ -181,6 +208,7 @@ void write_with_assimp(const std::string& input, const std::string& output,
       mesh.mVertices[v] = inverse * world_point;
     }
   }
+  keep_texture_paths(*const_cast<aiScene*>(scene), input, final_folder);
   Assimp::Exporter exporter;
   const std::string format = export_format(exporter, extension_of(output), input);
   if (format.empty()) fail(output, "no writer for the format ." + extension_of(output));
