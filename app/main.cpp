@@ -19,6 +19,7 @@
 #include "untangle/mesh_info.h"
 #include "untangle/read_meshes.h"
 #include "untangle/report.h"
+#include "untangle/roles_by_name.h"
 #include "untangle/version.h"
 #include "untangle/write_meshes.h"
 
@@ -124,6 +125,15 @@ int run_info(const CommonOptions& o) {
                   in.closed ? "closed" : "open");
       std::printf("  zero-area triangles %zu, degenerate triangles %zu\n", in.zero_area_triangles,
                   in.degenerate_triangles);
+      // What --obstacle-name and --movable-name can match.
+      const std::vector<std::string> names = untangle::all_names({meshes[i]});
+      if (!names.empty()) {
+        std::string text;
+        for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
+        std::printf("  %s %s\n",
+                    meshes[i].group_names.empty() ? "names (mesh, node):" : "names (o and g):",
+                    text.c_str());
+      }
       if (o.verbose) {
         std::printf("  boundary edges %zu, area %.6g, mean edge length %.6g\n", in.boundary_edges,
                     in.area, in.mean_edge_length);
@@ -137,7 +147,8 @@ int run_info(const CommonOptions& o) {
 int run_check(const CommonOptions& o) {
   untangle::app::check_written_files(o, {});
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<untangle::Mesh> meshes = load_all(o);
+  const std::vector<untangle::Mesh> meshes =
+      untangle::split_by_name(load_all(o), {}, untangle::app::name_patterns(o)).meshes;
   untangle::CheckTimingsMs timings;
   timings.load = ms_since(start);
 
@@ -251,6 +262,16 @@ void add_common(CLI::App& cmd, CommonOptions& o, bool with_check_options) {
     cmd.add_option("--obstacle", o.obstacles, "A mesh that never moves (repeatable)")
         ->allow_extra_args(false)
         ->option_text("MESH");
+    cmd.add_option("--obstacle-name", o.obstacle_names,
+                   "Meshes, nodes, OBJ objects or groups of the movable inputs whose name matches "
+                   "the glob PATTERN are obstacles (repeatable)")
+        ->allow_extra_args(false)
+        ->option_text("PATTERN");
+    cmd.add_option("--movable-name", o.movable_names,
+                   "Only meshes, nodes, OBJ objects or groups of the movable inputs whose name "
+                   "matches the glob PATTERN move; the rest are obstacles (repeatable)")
+        ->allow_extra_args(false)
+        ->option_text("PATTERN");
     cmd.add_option("--contours", o.contours, "Write the contour polylines as OBJ to FILE ('-' = stdout, which then carries nothing else)")
         ->option_text("FILE");
     cmd.add_option("--threads", o.threads,
@@ -326,6 +347,9 @@ int main(int argc, char** argv) {
                {"--orientation-free", kArea + (inside_default ? "" : default_mark)}});
   fix->formatter(help);
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing files it writes: outputs, their side files, report, contours (never an input)");
+  fix->add_flag("--allow-loss", fix_options.allow_loss,
+                "Write an output that cannot keep all of its input (animations, skins, textures: "
+                "refused otherwise, naming what would be lost)");
   std::string fix_preview;
   untangle::app::add_preview_option(*fix, fix_preview, fix_options);
   fix->footer(kExitCodes);

@@ -36,6 +36,13 @@ std::vector<Mesh> load_all(const CommonOptions& o, std::vector<std::size_t>* fil
   return meshes;
 }
 
+NamePatterns name_patterns(const CommonOptions& o) {
+  NamePatterns patterns;
+  patterns.obstacle = o.obstacle_names;
+  patterns.movable = o.movable_names;
+  return patterns;
+}
+
 namespace {
 
 [[noreturn]] void refuse(const std::string& path, const std::string& why) {
@@ -74,6 +81,13 @@ std::vector<std::string> plan_outputs(const CommonOptions& o) {
       if (ext(o.inputs[k]) != ".off" || keyword != "OFF")
         refuse(out, "OFF is written only from a plain OFF input (its lines are kept as they are)");
     }
+  }
+  // What the output's format (or assimp's reader) cannot carry: refused unless accepted.
+  for (std::size_t k = 0; k < outputs.size() && !o.allow_loss; ++k) {
+    const std::string lost = export_loss(o.inputs[k], outputs[k]);
+    if (!lost.empty())
+      refuse(outputs[k], "would lose " + lost + " of " + o.inputs[k] +
+                             " (not carried by this format or by assimp); --allow-loss writes it anyway");
   }
   // Outputs, their side files, --report and --contours against every file read and each other.
   check_written_files(o, outputs);
@@ -146,12 +160,14 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
   run.outputs = plan_outputs(o);
   std::vector<std::size_t> file_of;
-  run.meshes = load_all(o, &file_of);
+  // The meshes as in the files (written from), and as split by role (repaired and reported).
+  std::vector<Mesh> file_meshes = load_all(o, &file_of);
+  RoleSplit split = split_by_name(file_meshes, read_pins(o, file_meshes, file_of), name_patterns(o));
+  run.meshes = split.meshes;
   for (const auto& m : run.meshes) {
     run.infos.push_back(describe_mesh(m));
     run.input.push_back(m.positions);
   }
-  const PinMask pins = read_pins(o, run.meshes, file_of);
   run.timings.load = ms_since(start);
 
   FixOptions& options = run.options;
@@ -165,7 +181,9 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   for (const std::string& out : run.outputs)
     if (auto r = output_rounding(out)) rounding = r;
   const auto resolve_start = std::chrono::steady_clock::now();
-  run.result = fix_meshes(run.meshes, options, pins, rounding, progress);
+  run.result = fix_meshes(run.meshes, options, split.pins, rounding, progress);
+  split.meshes = run.meshes;
+  merge_positions(split, file_meshes);
   run.timings.detect = run.result.detect_ms;
   run.timings.contours = run.result.contours_ms;
   run.timings.resolve = ms_since(resolve_start) - run.result.detect_ms - run.result.contours_ms;
@@ -173,19 +191,22 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   const auto write_start = std::chrono::steady_clock::now();
   for (std::size_t k = 0; k < o.inputs.size(); ++k) {
     std::vector<const Mesh*> of_file;
-    for (std::size_t m = 0; m < run.meshes.size(); ++m)
-      if (m < file_of.size() && file_of[m] == k) of_file.push_back(&run.meshes[m]);
+    for (std::size_t m = 0; m < file_meshes.size(); ++m)
+      if (m < file_of.size() && file_of[m] == k) of_file.push_back(&file_meshes[m]);
     write_meshes(o.inputs[k], run.outputs[k], of_file);
   }
   run.timings.write = ms_since(write_start);
 
   // The written files are the truth: read them back with the obstacles and detect again.
   const auto verify_start = std::chrono::steady_clock::now();
-  std::vector<Mesh>& written = run.written;
+  std::vector<Mesh> read_back;
   for (const std::string& out : run.outputs)
-    for (auto& m : read_meshes(out, Role::kMovable)) written.push_back(std::move(m));
-  for (const auto& m : run.meshes)
-    if (m.role == Role::kObstacle) written.push_back(m);
+    for (auto& m : read_meshes(out, Role::kMovable)) read_back.push_back(std::move(m));
+  for (std::size_t m = file_of.size(); m < file_meshes.size(); ++m) read_back.push_back(file_meshes[m]);
+  // The parts that are obstacles by name are checked as obstacles, like those of --obstacle.
+  // Without patterns the read-back meshes are taken as they come (an exporter may regroup them).
+  run.written = name_patterns(o).empty() ? std::move(read_back) : apply_split(split, read_back);
+  const std::vector<Mesh>& written = run.written;
   DetectOptions detect;
   detect.threads = o.threads;
   detect.skip_obstacle_pairs = true;

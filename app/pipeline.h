@@ -12,6 +12,7 @@
 #include "untangle/mesh.h"
 #include "untangle/mesh_info.h"
 #include "untangle/report.h"
+#include "untangle/roles_by_name.h"
 
 namespace untangle::app {
 
@@ -21,6 +22,9 @@ namespace untangle::app {
 struct CommonOptions {
   std::vector<std::string> inputs;
   std::vector<std::string> obstacles;
+  // --obstacle-name / --movable-name: roles by name inside the movable inputs (check, fix).
+  std::vector<std::string> obstacle_names;
+  std::vector<std::string> movable_names;
   std::string report;
   std::string contours;
   int threads = FixOptions{}.threads;  // check sets DetectOptions{}.threads (main.cpp)
@@ -37,6 +41,7 @@ struct CommonOptions {
   double step = FixOptions{}.step;  // not a fix option (yet), varied by bench
   bool outside_closed = FixOptions{}.outside_closed_obstacles;
   bool overwrite = false;
+  bool allow_loss = false;  // fix --allow-loss: write although the output drops what export_loss names
   std::string preview_png;  // fix --preview: the picture to write (planned with the outputs)
   std::string preview_size;  // fix --preview-size WxH, each panel; empty = RenderOptions' size
 };
@@ -47,10 +52,14 @@ double ms_since(std::chrono::steady_clock::time_point start);
 // receives, per movable mesh, the index of its input file.
 std::vector<Mesh> load_all(const CommonOptions& o, std::vector<std::size_t>* file_of = nullptr);
 
+// The --obstacle-name and --movable-name patterns of `o`.
+NamePatterns name_patterns(const CommonOptions& o);
+
 // What one run of the pipeline produced.
 struct PipelineRun {
   std::vector<std::string> outputs;      // one per movable input
-  std::vector<Mesh> meshes;              // movable then obstacles, positions as fixed
+  std::vector<Mesh> meshes;              // movable then obstacles, positions as fixed, with the
+                                         // roles by name (a split OBJ is two meshes here)
   std::vector<std::vector<Vec3>> input;  // per mesh, the positions as read
   std::vector<MeshInfo> infos;           // of the inputs
   FixOptions options;

@@ -22,6 +22,8 @@ const char* to_string(Role role);
 struct Mesh {
   std::string path;  // file the mesh came from
   std::string name;  // mesh name inside the file (may be empty)
+  // The name of the node that places this mesh (assimp formats; empty for OBJ and plain OFF).
+  std::string node_name;
   Role role = Role::kMovable;
   std::vector<Vec3> positions;
   std::vector<Triangle> triangles;  // indices into positions
@@ -31,6 +33,9 @@ struct Mesh {
   // of its group in group_names, or none when group_names is empty.
   std::vector<std::string> group_names;
   std::vector<std::uint32_t> triangle_group;
+  // OBJ: per group, the name of the `o` line in effect where it starts (its own for an `o`
+  // group, empty before the first `o`); empty for other formats.
+  std::vector<std::string> group_objects;
 };
 
 // A label for messages and reports: "path" or "path:name" when the file holds several meshes.

@@ -27,6 +27,15 @@ std::function<Vec3(const Vec3&)> output_rounding(const std::string& output);
 // (write_meshes throws instead), so that a caller that checked these paths loses nothing.
 std::vector<std::string> side_files_of_output(const std::string& input, const std::string& output);
 
+// What writing `input` to `output` would not keep, as "2 animations, 1 skin" ("" when nothing).
+// OBJ to OBJ, plain OFF to OFF and glTF to glTF (positions patched into copies of the buffers)
+// keep everything. Otherwise the file is re-imported and exported by assimp, which carries
+// meshes, materials, texture references, node names and, in glTF, glTF binary, Collada, FBX,
+// assbin and X, animations and skins (bones); counted as lost: the animations and skins of the
+// file that assimp does not import (glTF 1.0 animations), those of a format that cannot store
+// them (PLY, STL, OBJ, OFF, 3DS, X3D), and the textures of PLY and STL outputs.
+std::string export_loss(const std::string& input, const std::string& output);
+
 // Whether `output`'s extension names a format untangle can write.
 bool can_write(const std::string& output);
 

@@ -276,6 +276,7 @@ void collect(const aiScene& scene, const std::string& path, Role role, std::vect
       Mesh mesh;
       mesh.path = path;
       mesh.name = in.mName.length > 0 ? in.mName.C_Str() : node->mName.C_Str();
+      mesh.node_name = node->mName.C_Str();
       mesh.role = role;
       mesh.positions.resize(in.mNumVertices);
       for (unsigned v = 0; v < in.mNumVertices; ++v) {
@@ -426,7 +427,9 @@ std::vector<Mesh> read_meshes(const std::string& path, Role role) {
   }
   for (Mesh& mesh : meshes) {
     mesh.name = valid_utf8(mesh.name);
+    mesh.node_name = valid_utf8(mesh.node_name);
     for (std::string& group : mesh.group_names) group = valid_utf8(group);
+    for (std::string& object : mesh.group_objects) object = valid_utf8(object);
   }
   return meshes;
 }

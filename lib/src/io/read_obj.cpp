@@ -55,6 +55,7 @@ Mesh read_obj(const std::string& path, Role role) {
   std::size_t number = 0;
   std::vector<long long> corners;
   std::size_t faces_total = 0;
+  std::string object;  // the name of the last `o` line
   const char* const end_of_text = text.data() + text.size();
   for (const char* at = text.data(); at < end_of_text;) {
     const char* newline = static_cast<const char*>(std::memchr(at, '\n', end_of_text - at));
@@ -107,9 +108,12 @@ Mesh read_obj(const std::string& path, Role role) {
       // Triangles before the first group belong to an unnamed one.
       if (mesh.group_names.empty() && !mesh.triangles.empty()) {
         mesh.group_names.emplace_back();
+        mesh.group_objects.emplace_back();
         mesh.triangle_group.assign(mesh.triangles.size(), 0);
       }
+      if (keyword == "o") object = name;
       mesh.group_names.push_back(name);
+      mesh.group_objects.push_back(object);
     }
   }
   mesh.source_faces = faces_total;

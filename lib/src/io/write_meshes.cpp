@@ -3,6 +3,7 @@
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/material.h>
 #include <assimp/scene.h>
 
 #include <algorithm>
@@ -11,12 +12,15 @@
 #include <charconv>
 #include <filesystem>
 #include <fstream>
+#include <cstring>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
 
 #include "io/deterministic_export.h"
 #include "io/read_off.h"
 #include "io/verified_exports.h"
+#include "io/write_gltf_in_place.h"
 #include "io/write_off.h"
 #include "untangle/error.h"
 
@@ -132,13 +136,53 @@ std::string export_format(const Assimp::Exporter& exporter, const std::string& e
   return found;
 }
 
+// Texture files named relative to the input are named relative to the output's folder instead,
+// so that the exported file still finds them (embedded textures, "*<k>", stay as they are).
+void keep_texture_paths(aiScene& scene, const std::string& input, const std::string& final_folder) {
+  std::error_code ec;
+  const fs::path from = fs::absolute(fs::path(input).parent_path(), ec).lexically_normal();
+  const fs::path to = fs::absolute(final_folder, ec).lexically_normal();
+  if (from == to) return;
+  for (unsigned m = 0; m < scene.mNumMaterials; ++m) {
+    aiMaterial& material = *scene.mMaterials[m];
+    for (int type = aiTextureType_DIFFUSE; type <= AI_TEXTURE_TYPE_MAX; ++type) {
+      const auto t = static_cast<aiTextureType>(type);
+      for (unsigned k = 0; k < material.GetTextureCount(t); ++k) {
+        aiString path;
+        if (material.GetTexture(t, k, &path) != AI_SUCCESS) continue;
+        const std::string name = path.C_Str();
+        if (name.empty() || name[0] == '*' || name.rfind("data:", 0) == 0 || fs::path(name).is_absolute() ||
+            name.find("://") != std::string::npos)
+          continue;
+        const fs::path moved = (from / name).lexically_normal().lexically_relative(to);
+        if (moved.empty()) continue;
+        const aiString replaced(moved.generic_string());
+        material.AddProperty(&replaced, AI_MATKEY_TEXTURE(t, k));
+      }
+    }
+  }
+}
+
 void write_with_assimp(const std::string& input, const std::string& output,
-                       const std::vector<const Mesh*>& meshes) {
+                       const std::string& final_folder, const std::vector<const Mesh*>& meshes) {
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(input, 0);
   if (scene == nullptr || scene->mRootNode == nullptr) fail(output, "cannot re-read " + input);
   std::vector<std::pair<unsigned, aiMatrix4x4>> instances;
   collect_nodes(*scene->mRootNode, aiMatrix4x4(), instances);
+  if (extension_of(input) == "gltf" && extension_of(output) == "gltf") {
+    // The instances read_meshes returns: those with triangles.
+    std::vector<MeshInstance> placed;
+    for (const auto& [index, world] : instances) {
+      if (index >= scene->mNumMeshes) fail(output, "cannot re-read " + input);
+      const aiMesh* mesh = scene->mMeshes[index];
+      bool has_triangles = false;
+      for (unsigned f = 0; f < mesh->mNumFaces && !has_triangles; ++f)
+        has_triangles = mesh->mFaces[f].mNumIndices >= 3;
+      if (has_triangles) placed.emplace_back(mesh, world);
+    }
+    if (write_gltf_in_place(input, output, final_folder, placed, meshes)) return;
+  }
   std::size_t next = 0;
   std::vector<std::uint8_t> done(scene->mNumMeshes, 0);
   for (const auto& [index, world] : instances) {
@@ -164,6 +208,7 @@ void write_with_assimp(const std::string& input, const std::string& output,
       mesh.mVertices[v] = inverse * world_point;
     }
   }
+  keep_texture_paths(*const_cast<aiScene*>(scene), input, final_folder);
   Assimp::Exporter exporter;
   const std::string format = export_format(exporter, extension_of(output), input);
   if (format.empty()) fail(output, "no writer for the format ." + extension_of(output));
@@ -178,7 +223,85 @@ void write_with_assimp(const std::string& input, const std::string& output,
   finish_deterministic_export(format, output, fs::path(output).filename().string());
 }
 
+// Animations and skins as the file states them: a glTF lists them in its JSON (assimp's glTF 1.0
+// importer reads neither), other formats as assimp imports them.
+struct Carried {
+  std::size_t animations = 0, skins = 0, textures = 0;
+};
+
+std::size_t json_count(const nlohmann::json& j, const char* key) {
+  const auto it = j.find(key);
+  return it == j.end() || !(it->is_array() || it->is_object()) ? 0 : it->size();
+}
+
+Carried carried_by(const aiScene& scene) {
+  Carried c;
+  c.animations = scene.mNumAnimations;
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) c.skins += scene.mMeshes[m]->mNumBones > 0 ? 1 : 0;
+  std::vector<std::string> paths;
+  for (unsigned m = 0; m < scene.mNumMaterials; ++m) {
+    for (int type = aiTextureType_DIFFUSE; type <= AI_TEXTURE_TYPE_MAX; ++type) {
+      const auto t = static_cast<aiTextureType>(type);
+      for (unsigned k = 0; k < scene.mMaterials[m]->GetTextureCount(t); ++k) {
+        aiString path;
+        if (scene.mMaterials[m]->GetTexture(t, k, &path) != AI_SUCCESS) continue;
+        if (std::find(paths.begin(), paths.end(), path.C_Str()) == paths.end()) paths.push_back(path.C_Str());
+      }
+    }
+  }
+  c.textures = std::max<std::size_t>(paths.size(), scene.mNumTextures);
+  return c;
+}
+
+std::string counted(std::size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
 }  // namespace
+
+std::string export_loss(const std::string& input, const std::string& output) {
+  const std::string in = extension_of(input), out = extension_of(output);
+  if (in == "obj" && out == "obj") return "";
+  if (in == "off" && out == "off") return "";
+  if (in == "gltf" && out == "gltf" && can_patch_gltf(input)) return "";
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile(input, 0);
+  if (scene == nullptr) return "";  // unreadable: reading it reports why
+  const Carried imported = carried_by(*scene);
+  Carried in_file = imported;
+  if (in == "gltf" || in == "glb") {
+    std::ifstream file(input, std::ios::binary);
+    nlohmann::json j;
+    if (in == "gltf") {
+      j = nlohmann::json::parse(file, nullptr, false);
+    } else {
+      // GLB: a 12-byte header, then the JSON chunk (length, type, data).
+      std::string head(20, '\0');
+      file.read(head.data(), 20);
+      std::uint32_t length = 0;
+      std::memcpy(&length, head.data() + 12, 4);
+      std::string text(std::min<std::uint32_t>(length, 1u << 28), '\0');
+      file.read(text.data(), static_cast<std::streamsize>(text.size()));
+      j = nlohmann::json::parse(text, nullptr, false);
+    }
+    if (j.is_object()) {
+      in_file.animations = std::max(imported.animations, json_count(j, "animations"));
+      in_file.skins = std::max(imported.skins, json_count(j, "skins"));
+    }
+  }
+  const bool animated = out == "gltf" || out == "glb" || out == "dae" || out == "fbx" ||
+                        out == "assbin" || out == "x";
+  const bool textured = out != "ply" && out != "stl";
+  std::vector<std::string> lost;
+  const std::size_t animations = in_file.animations - (animated ? imported.animations : 0);
+  const std::size_t skins = in_file.skins - (animated ? imported.skins : 0);
+  if (animations > 0) lost.push_back(counted(animations, "animation", "animations"));
+  if (skins > 0) lost.push_back(counted(skins, "skin", "skins"));
+  if (!textured && imported.textures > 0) lost.push_back(counted(imported.textures, "texture", "textures"));
+  std::string text;
+  for (const std::string& l : lost) text += (text.empty() ? "" : ", ") + l;
+  return text;
+}
 
 bool can_write(const std::string& output) {
   const std::string ext = extension_of(output);
@@ -195,6 +318,10 @@ std::vector<std::string> side_files_of_output(const std::string& input, const st
   std::vector<std::string> side;
   if (ext == "obj" && extension_of(input) != "obj") side.push_back((target.parent_path() / (stem + ".mtl")).string());
   if (ext == "gltf") side.push_back((target.parent_path() / (stem + ".bin")).string());
+  // glTF to glTF keeps the input's buffers, one file each (write_gltf_in_place).
+  if (ext == "gltf" && extension_of(input) == "gltf")
+    for (const std::string& b : buffers_of_output(input, output))
+      if (std::find(side.begin(), side.end(), b) == side.end()) side.push_back(b);
   return side;
 }
 
@@ -241,7 +368,7 @@ void write_meshes(const std::string& input, const std::string& output,
   } else if (extension_of(output) == "off") {
     fail(output, "OFF is written only from a plain OFF input");
   } else {
-    write_with_assimp(input, staged.string(), meshes);
+    write_with_assimp(input, staged.string(), folder.string(), meshes);
   }
   // Every staged file is checked before the first one is moved: a file the exporter made that
   // the caller could not foresee (side_files_of_output) never replaces an existing one.

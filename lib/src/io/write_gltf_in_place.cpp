@@ -1,0 +1,277 @@
+// glTF to glTF by patching positions in copies of the input's buffers (issue 22 §2).
+#include "io/write_gltf_in_place.h"
+
+#include <assimp/mesh.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "untangle/error.h"
+
+namespace untangle {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+std::string read_file(const fs::path& path, bool& ok) {
+  std::ifstream in(path, std::ios::binary);
+  ok = static_cast<bool>(in);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool external(const std::string& uri) {
+  return uri.rfind("data:", 0) != 0 && uri.find("://") == std::string::npos && !uri.empty();
+}
+
+// glTF 2 refers by index into arrays, glTF 1 by id into objects.
+Json* lookup(Json& collection, const Json& ref) {
+  if (collection.is_array() && ref.is_number_unsigned() && ref.get<std::size_t>() < collection.size())
+    return &collection[ref.get<std::size_t>()];
+  if (collection.is_object() && ref.is_string() && collection.contains(ref.get<std::string>()))
+    return &collection[ref.get<std::string>()];
+  return nullptr;
+}
+
+// A key for a reference (index or id), to keep per-buffer and per-accessor state in a map.
+std::string key_of(const Json& ref) { return ref.is_string() ? ref.get<std::string>() : ref.dump(); }
+
+// The external buffers of the file, in file order, as (reference key, uri).
+std::vector<std::pair<std::string, std::string>> external_buffers(const Json& j) {
+  std::vector<std::pair<std::string, std::string>> out;
+  const auto it = j.find("buffers");
+  if (it == j.end()) return out;
+  std::size_t index = 0;
+  for (auto b = it->begin(); b != it->end(); ++b, ++index) {
+    const std::string key = it->is_array() ? std::to_string(index) : b.key();
+    if (b->is_object() && b->contains("uri") && (*b)["uri"].is_string() &&
+        external((*b)["uri"].get<std::string>()))
+      out.emplace_back(key, (*b)["uri"].get<std::string>());
+  }
+  return out;
+}
+
+std::vector<std::string> buffer_names(std::size_t count, const std::string& stem) {
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < count; ++k)
+    names.push_back(count == 1 ? stem + ".bin" : stem + "_" + std::to_string(k) + ".bin");
+  return names;
+}
+
+// A position accessor: where its floats are.
+struct Positions {
+  Json* json = nullptr;
+  std::string buffer;  // key of its buffer
+  std::size_t start = 0, stride = 12, count = 0;
+};
+
+float float_at(const std::string& bytes, std::size_t offset) {
+  float f;
+  std::memcpy(&f, bytes.data() + offset, 4);
+  return f;
+}
+
+// The file's external buffers and the position accessors of its primitives, or false when they
+// are not all float32 VEC3 in external buffers (then only assimp's exporter writes it).
+bool collect_positions(Json& j, const fs::path& input_folder,
+                       std::vector<std::pair<std::string, std::string>>& listed,
+                       std::map<std::string, std::string>& buffers, std::vector<Positions>& accessors) {
+  bool ok = false;
+  if (j.is_discarded() || !j.is_object() || !j.contains("meshes") || !j.contains("accessors") ||
+      !j.contains("bufferViews"))
+    return false;
+  const bool version1 = !(j.contains("asset") && j["asset"].contains("version") &&
+                          j["asset"]["version"].is_string() &&
+                          j["asset"]["version"].get<std::string>().rfind("2", 0) == 0);
+  listed = external_buffers(j);
+  for (const auto& [key, uri] : listed) {
+    buffers[key] = read_file(input_folder / uri, ok);
+    if (!ok) return false;
+  }
+
+  // The position accessors of every primitive, in file order.
+  std::map<std::string, std::size_t> accessor_index;
+  for (auto& mesh : j["meshes"]) {
+    if (!mesh.contains("primitives")) continue;
+    for (auto& primitive : mesh["primitives"]) {
+      if (!primitive.contains("attributes") || !primitive["attributes"].contains("POSITION")) continue;
+      const Json& ref = primitive["attributes"]["POSITION"];
+      if (accessor_index.count(key_of(ref))) continue;
+      Json* a = lookup(j["accessors"], ref);
+      if (a == nullptr || a->contains("sparse") || !a->contains("bufferView")) return false;
+      if (a->value("componentType", 0) != 5126 || a->value("type", "") != "VEC3") return false;
+      Json* view = lookup(j["bufferViews"], (*a)["bufferView"]);
+      if (view == nullptr || !view->contains("buffer")) return false;
+      Positions p;
+      p.json = a;
+      p.buffer = key_of((*view)["buffer"]);
+      if (!buffers.count(p.buffer)) return false;  // embedded: re-encoding is not done here
+      const std::size_t stride = version1 ? a->value("byteStride", std::size_t{0})
+                                          : view->value("byteStride", std::size_t{0});
+      p.stride = stride == 0 ? 12 : stride;
+      p.start = view->value("byteOffset", std::size_t{0}) + a->value("byteOffset", std::size_t{0});
+      p.count = a->value("count", std::size_t{0});
+      const std::string& bytes = buffers[p.buffer];
+      if (p.count > 0 && (p.stride < 12 || p.start + (p.count - 1) * p.stride + 12 > bytes.size()))
+        return false;
+      accessor_index[key_of(ref)] = accessors.size();
+      accessors.push_back(p);
+    }
+  }
+
+  return !accessors.empty();
+}
+
+}  // namespace
+
+bool can_patch_gltf(const std::string& input) {
+  std::ifstream in(input, std::ios::binary);
+  Json j = Json::parse(in, nullptr, false);
+  std::vector<std::pair<std::string, std::string>> listed;
+  std::map<std::string, std::string> buffers;
+  std::vector<Positions> accessors;
+  return collect_positions(j, fs::path(input).parent_path(), listed, buffers, accessors);
+}
+
+std::vector<std::string> buffers_of_output(const std::string& input, const std::string& output) {
+  std::ifstream in(input, std::ios::binary);
+  const Json j = Json::parse(in, nullptr, false);
+  const std::size_t count = j.is_object() ? external_buffers(j).size() : 0;
+  const fs::path target(output);
+  std::vector<std::string> out;
+  for (const std::string& name : buffer_names(std::max<std::size_t>(count, 1), target.stem().string()))
+    out.push_back((target.parent_path() / name).string());
+  return out;
+}
+
+bool write_gltf_in_place(const std::string& input, const std::string& staged,
+                         const std::string& final_folder, const std::vector<MeshInstance>& instances,
+                         const std::vector<const Mesh*>& meshes) {
+  bool ok = false;
+  const std::string text = read_file(input, ok);
+  if (!ok) return false;
+  Json j = Json::parse(text, nullptr, false);
+  const fs::path input_folder = fs::path(input).parent_path();
+  std::vector<std::pair<std::string, std::string>> listed;
+  std::map<std::string, std::string> buffers;  // key -> bytes, external ones only
+  std::vector<Positions> accessors;
+  if (!collect_positions(j, input_folder, listed, buffers, accessors)) return false;
+
+  // Each instance's mesh is the accessor holding exactly its vertices (assimp copies them as
+  // stored); an accessor not yet taken is preferred, so that equal copies map one to one.
+  if (instances.size() != meshes.size()) return false;
+  std::vector<std::size_t> of_instance;
+  std::vector<std::uint8_t> taken(accessors.size(), 0);
+  std::map<const aiMesh*, std::size_t> of_mesh;
+  for (const auto& [mesh, world] : instances) {
+    if (of_mesh.count(mesh)) {
+      of_instance.push_back(of_mesh[mesh]);
+      continue;
+    }
+    std::size_t found = accessors.size();
+    for (std::size_t a = 0; a < accessors.size(); ++a) {
+      const Positions& p = accessors[a];
+      if (p.count != mesh->mNumVertices || (found < accessors.size() && taken[a])) continue;
+      const std::string& bytes = buffers[p.buffer];
+      bool same = true;
+      for (std::size_t v = 0; v < p.count && same; ++v) {
+        for (int c = 0; c < 3 && same; ++c) {
+          const float stored = float_at(bytes, p.start + v * p.stride + 4 * c);
+          same = std::memcmp(&stored, &mesh->mVertices[v][c], 4) == 0;
+        }
+      }
+      if (!same) continue;
+      found = a;
+      if (!taken[a]) break;
+    }
+    if (found == accessors.size()) return false;
+    taken[found] = 1;
+    of_mesh[mesh] = found;
+    of_instance.push_back(found);
+  }
+
+  // Moved vertices written back; the first instance to move a vertex decides it (an accessor
+  // shared by several primitives or placed by several nodes is one set of positions).
+  std::vector<std::vector<std::uint8_t>> written(accessors.size());
+  std::vector<std::uint8_t> changed(accessors.size(), 0);
+  for (std::size_t k = 0; k < instances.size(); ++k) {
+    const auto& [mesh, world] = instances[k];
+    const Mesh& ours = *meshes[k];
+    Positions& p = accessors[of_instance[k]];
+    if (ours.positions.size() != p.count) return false;
+    std::vector<std::uint8_t>& done = written[of_instance[k]];
+    done.resize(p.count, 0);
+    aiMatrix4x4 inverse = world;
+    inverse.Inverse();
+    std::string& bytes = buffers[p.buffer];
+    for (std::size_t v = 0; v < p.count; ++v) {
+      const aiVector3D target(static_cast<ai_real>(ours.positions[v][0]),
+                              static_cast<ai_real>(ours.positions[v][1]),
+                              static_cast<ai_real>(ours.positions[v][2]));
+      if (done[v] || world * mesh->mVertices[v] == target) continue;
+      done[v] = 1;
+      changed[of_instance[k]] = 1;
+      const aiVector3D local = inverse * target;
+      for (int c = 0; c < 3; ++c) {
+        const float f = local[c];
+        std::memcpy(bytes.data() + p.start + v * p.stride + 4 * c, &f, 4);
+      }
+    }
+  }
+  for (std::size_t a = 0; a < accessors.size(); ++a) {
+    Positions& p = accessors[a];
+    if (!changed[a] || p.count == 0) continue;
+    Json& json = *p.json;
+    if (!json.contains("min") && !json.contains("max")) continue;
+    const std::string& bytes = buffers[p.buffer];
+    std::array<float, 3> lo{}, hi{};
+    for (std::size_t v = 0; v < p.count; ++v) {
+      for (int c = 0; c < 3; ++c) {
+        const float f = float_at(bytes, p.start + v * p.stride + 4 * c);
+        lo[c] = v == 0 ? f : std::min(lo[c], f);
+        hi[c] = v == 0 ? f : std::max(hi[c], f);
+      }
+    }
+    json["min"] = {lo[0], lo[1], lo[2]};
+    json["max"] = {hi[0], hi[1], hi[2]};
+  }
+
+  // The buffers beside the output, and every other relative URI made valid from its folder.
+  const fs::path out(staged);
+  const std::vector<std::string> names = buffer_names(listed.size(), out.stem().string());
+  for (std::size_t k = 0; k < listed.size(); ++k) {
+    Json* buffer = lookup(j["buffers"], j["buffers"].is_array() ? Json(std::stoul(listed[k].first))
+                                                                : Json(listed[k].first));
+    (*buffer)["uri"] = names[k];
+    std::ofstream file(out.parent_path() / names[k], std::ios::binary);
+    file << buffers[listed[k].first];
+    file.flush();
+    if (!file) throw Error(ExitCode::kOutputNotWritten, staged, "write failed");
+  }
+  std::error_code ec;
+  const fs::path from = fs::absolute(input_folder, ec);
+  const fs::path to = fs::absolute(final_folder, ec);
+  for (const char* kind : {"images", "shaders"}) {
+    if (!j.contains(kind)) continue;
+    for (auto& item : j[kind]) {
+      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
+      const std::string uri = item["uri"].get<std::string>();
+      if (!external(uri) || fs::path(uri).is_absolute()) continue;
+      const fs::path moved = (from / uri).lexically_normal().lexically_relative(to.lexically_normal());
+      if (!moved.empty()) item["uri"] = moved.generic_string();
+    }
+  }
+  std::ofstream file(staged, std::ios::binary);
+  file << j.dump(2, ' ', false, Json::error_handler_t::replace) << '\n';
+  file.flush();
+  if (!file) throw Error(ExitCode::kOutputNotWritten, staged, "write failed");
+  return true;
+}
+
+}  // namespace untangle

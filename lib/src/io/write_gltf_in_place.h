@@ -1,0 +1,42 @@
+// glTF to glTF by patching positions in a copy of the input's buffers: everything else (other
+// attributes, indices, animations, skins, materials, shaders, extensions, glTF 1.0 or 2.0) kept.
+#pragma once
+
+#include <assimp/matrix4x4.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "untangle/mesh.h"
+
+struct aiMesh;
+
+namespace untangle {
+
+// One placed mesh of the input as assimp read it (read_meshes order): the mesh and its world
+// transform.
+using MeshInstance = std::pair<const aiMesh*, aiMatrix4x4>;
+
+// Writes `input` (.gltf, version 1.0 or 2.0) to `staged` (a .gltf in a temporary folder; its
+// buffers beside it) with the positions of `meshes` (world space, one per instance in order),
+// mapped back through each instance's transform into the position accessor that holds it; an
+// unmoved vertex keeps its stored bytes. The JSON changes only in the `min`/`max` of patched
+// accessors, the buffer URIs (buffers_of_output) and the relative URIs of images and shaders,
+// rewritten to stay valid from `final_folder`. Returns false, having written nothing, when the
+// file is not one it can patch (positions not float32 VEC3 in external buffers, sparse, or a mesh
+// whose positions match no accessor); the caller then exports with assimp.
+// Throws Error(kOutputNotWritten) when writing fails.
+bool write_gltf_in_place(const std::string& input, const std::string& staged,
+                         const std::string& final_folder, const std::vector<MeshInstance>& instances,
+                         const std::vector<const Mesh*>& meshes);
+
+// Whether write_gltf_in_place can patch `input`: its primitives' positions are float32 VEC3 in
+// external buffers that hold them (a mesh matching no accessor is found only when writing).
+bool can_patch_gltf(const std::string& input);
+
+// The buffer files writing `input` to a .gltf named `output` creates beside it: `<stem>.bin` for
+// one external buffer, `<stem>_<k>.bin` for the k-th of several.
+std::vector<std::string> buffers_of_output(const std::string& input, const std::string& output);
+
+}  // namespace untangle
