@@ -36,6 +36,8 @@ struct CommonOptions {
   double clearance = FixOptions{}.clearance;
   double step = FixOptions{}.step;  // not a fix option (yet), varied by bench
   bool outside_closed = FixOptions{}.outside_closed_obstacles;
+  bool relax = FixOptions{}.relax;
+  QualityBounds bounds;
   bool overwrite = false;
   std::string preview_png;  // fix --preview: the picture to write (planned with the outputs)
 };

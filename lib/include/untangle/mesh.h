@@ -31,6 +31,10 @@ struct Mesh {
   // of its group in group_names, or none when group_names is empty.
   std::vector<std::string> group_names;
   std::vector<std::uint32_t> triangle_group;
+  // What the reader skipped and the CLI says on stderr (the library never prints), one line each
+  // without the path: "18 faces with fewer than 3 corners skipped (their lines are kept in the
+  // output)".
+  std::vector<std::string> warnings;
 };
 
 // A label for messages and reports: "path" or "path:name" when the file holds several meshes.
