@@ -343,7 +343,7 @@ int main(int argc, char** argv) {
               {{"--outside-closed-obstacles", kInside + (inside_default ? default_mark : "")},
                {"--orientation-free", kArea + (inside_default ? "" : default_mark)}});
   fix->formatter(help);
-  fix->add_flag("!--no-relax", fix_options.relax,
+  fix->add_flag_callback("--no-relax", [&fix_options] { fix_options.relax = false; },
                 "Skip the shape relaxation after a clean repair (moved vertices and the rings around "
                 "them relax toward the input's shape, every step kept clean)");
   fix->add_option("--max-stretch", fix_options.bounds.max_stretch,
