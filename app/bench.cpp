@@ -170,6 +170,11 @@ struct Row {
   std::array<Stat, kStageCount> stages{};
   double max_rel = 0.0, mean_rel = 0.0, edge_change = 0.0;
   std::size_t moved = 0;
+  // Of the written files: vertices inside an obstacle, the largest edge stretch and the flipped
+  // faces over the movable meshes, and whether every movable mesh is within the default bounds.
+  std::size_t inside_after = 0, flips = 0;
+  double stretch = 1.0;
+  bool within = true;
   std::vector<IterationRecord> history;  // of the run with the median total time
 };
 
@@ -226,6 +231,14 @@ Row run_case(const BenchCase& c, const std::string& method, double clearance, do
   row.mean_rel = edge > 0.0 ? run.result.displacement.mean / edge : 0.0;
   row.edge_change = mean_edge_change(run);
   row.moved = run.result.displacement.moved_vertices;
+  row.inside_after = run.verified.counts.inside_vertices;
+  for (std::size_t m = 0; m < run.result.quality.size(); ++m) {
+    if (run.meshes[m].role != Role::kMovable) continue;
+    const QualityStats& q = run.result.quality[m];
+    row.stretch = std::max(row.stretch, q.max_stretch);
+    row.flips += q.flipped_faces;
+    row.within = row.within && within_bounds(q, o.bounds);
+  }
   keep_median_history(row, histories, totals);
   if (run.result.clean != (row.after == 0)) {
     notes.push_back(c.name + " (" + method + "): the repair ended " +
@@ -236,7 +249,8 @@ Row run_case(const BenchCase& c, const std::string& method, double clearance, do
 }
 
 std::string status_of(const Row& r) {
-  return r.after == 0 ? "clean" : r.stalled ? "stalled" : "unresolved";
+  if (r.after > 0 || r.inside_after > 0) return r.stalled ? "stalled" : "unresolved";
+  return r.within ? "clean" : "distorted";
 }
 
 nlohmann::ordered_json row_json(const Row& r, bool with_history) {
@@ -255,6 +269,9 @@ nlohmann::ordered_json row_json(const Row& r, bool with_history) {
   j["displacement_mean_over_mean_edge"] = r.mean_rel;
   j["moved_vertices"] = r.moved;
   j["edge_length_change"] = r.edge_change;
+  j["inside_after"] = r.inside_after;
+  j["max_stretch"] = r.stretch;
+  j["flipped_faces"] = r.flips;
   if (with_history) {
     nlohmann::ordered_json stages;
     for (std::size_t s = 0; s < kStageCount; ++s)
@@ -281,16 +298,18 @@ std::string cpu_model() {
 }
 
 void print_main_table(const std::vector<Row>& rows) {
-  std::printf("%-28s %-6s %7s %6s %4s %8s %8s %8s %8s %8s %8s %8s %19s %6s %8s %8s %8s  %s\n",
+  std::printf("%-28s %-6s %7s %6s %4s %8s %8s %8s %8s %8s %8s %8s %19s %6s %6s %8s %8s %8s %7s "
+              "%5s  %s\n",
               "scene", "method", "verts", "before", "iter", "load", "detect", "contours",
-              "regions", "displace", "write", "verify", "total best/median", "after",
-              "max/edge", "mean/edge", "edge chg", "status");
+              "regions", "displace", "write", "verify", "total best/median", "after", "inside",
+              "max/edge", "mean/edge", "edge chg", "stretch", "flips", "status");
   for (const Row& r : rows) {
     std::printf("%-28s %-6s %7zu %6zu %4d", r.scene.c_str(), r.method.c_str(), r.vertices, r.before,
                 r.iterations);
     for (std::size_t s = 0; s + 1 < kStageCount; ++s) std::printf(" %8.1f", r.stages[s].median);
-    std::printf(" %9.1f/%9.1f %6zu %8.3f %8.3f %8.4f  %s\n", r.stages[kStageCount - 1].best,
-                r.stages[kStageCount - 1].median, r.after, r.max_rel, r.mean_rel, r.edge_change,
+    std::printf(" %9.1f/%9.1f %6zu %6zu %8.3f %8.3f %8.4f %7.3f %5zu  %s\n",
+                r.stages[kStageCount - 1].best, r.stages[kStageCount - 1].median, r.after,
+                r.inside_after, r.max_rel, r.mean_rel, r.edge_change, r.stretch, r.flips,
                 status_of(r).c_str());
   }
 }

@@ -51,6 +51,8 @@ constexpr const char* kExitCodes =
     "  4  output not written\n"
     "  5  intersections or vertices inside an obstacle found (check) or remaining in the written\n"
     "     output (fix)\n"
+    "  6  fix: the written output is intersection-free, but a movable mesh's shape is beyond\n"
+    "     --max-stretch, --max-flips or --max-move (status distorted; the output is written)\n"
     "  batch exits with its worst job's code: 0, then 5, 4, 3, 2, 1 from best to worst\n";
 
 // " (default X)" for a help text, X read from the options struct that holds the default: a default
@@ -220,6 +222,7 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
 
   emit_report(o.contours, untangle::contours_obj(verified));
   const bool clean = verified.counts.crossings == 0 && verified.counts.inside_vertices == 0;
+  const untangle::FixStatus status = untangle::judge_result(verified.counts, result.quality, o.bounds);
   if (show) {
     std::printf("before: %zu crossings, %zu contours, %zu inside; after %d iterations: %zu crossings, "
                 "%zu contours, %zu inside\n",
@@ -245,11 +248,27 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
                     ct.crossings.size());
       }
     }
-    std::printf("status: %s%s\n", clean ? "clean" : "unresolved", result.stalled && !clean ? " (stalled)" : "");
+    for (std::size_t m = 0; m < run.written.size() && m < result.quality.size(); ++m) {
+      if (run.written[m].role != untangle::Role::kMovable) continue;
+      const untangle::QualityStats& q = result.quality[m];
+      std::printf("quality %s: edge change mean %.3g, p95 %.3g, max %.3g (stretch %.3g), %zu flipped "
+                  "faces, max move %.3g diagonals%s\n",
+                  run.written[m].path.c_str(), q.edge_change_mean, q.edge_change_p95,
+                  q.edge_change_max, q.max_stretch, q.flipped_faces,
+                  q.max_displacement_over_diagonal,
+                  untangle::within_bounds(q, o.bounds) ? "" : " (beyond the bounds)");
+    }
+    std::printf("status: %s%s\n", untangle::to_string(status),
+                result.stalled && !clean ? " (stalled)" : "");
   }
-  emit_report(o.report, untangle::fix_report_json(run.meshes, run.infos, outputs, run.options, result,
-                                                   verified, run.timings));
-  return clean ? 0 : static_cast<int>(ExitCode::kIntersecting);
+  emit_report(o.report, untangle::fix_report_json(run.meshes, run.infos, outputs, run.options,
+                                                   o.bounds, result, verified, run.timings));
+  switch (status) {
+    case untangle::FixStatus::kClean: return 0;
+    case untangle::FixStatus::kDistorted: return static_cast<int>(ExitCode::kDistorted);
+    case untangle::FixStatus::kUnresolved: break;
+  }
+  return static_cast<int>(ExitCode::kIntersecting);
 }
 
 void add_common(CLI::App& cmd, CommonOptions& o, bool with_check_options) {
@@ -346,6 +365,23 @@ int main(int argc, char** argv) {
               {{"--outside-closed-obstacles", kInside + (inside_default ? default_mark : "")},
                {"--orientation-free", kArea + (inside_default ? "" : default_mark)}});
   fix->formatter(help);
+  fix->add_flag_callback("--no-relax", [&fix_options] { fix_options.relax = false; },
+                "Skip the shape relaxation after a clean repair (moved vertices and the rings around "
+                "them relax toward the input's shape, every step kept clean)");
+  fix->add_option("--max-stretch", fix_options.bounds.max_stretch,
+                  "Quality bound: no edge of a movable mesh longer or shorter than X times its input "
+                  "length" + default_is(fix_options.bounds.max_stretch))
+      ->check(CLI::Range(1.0, 1e300))
+      ->option_text("X");
+  fix->add_option("--max-flips", fix_options.bounds.max_flips,
+                  "Quality bound: faces per movable mesh whose normal may turn over" +
+                      default_is(fix_options.bounds.max_flips))
+      ->option_text("N");
+  fix->add_option("--max-move", fix_options.bounds.max_move,
+                  "Quality bound: largest vertex move, in its mesh's bounding-box diagonals" +
+                      default_is(fix_options.bounds.max_move))
+      ->check(CLI::NonNegativeNumber)
+      ->option_text("X");
   fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing files it writes: outputs, their side files, report, contours (never an input)");
   fix->add_flag("--allow-loss", fix_options.allow_loss,
                 "Write an output that cannot keep all of its input (animations, skins, textures: "

@@ -2,6 +2,7 @@
 #include "pipeline.h"
 
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -33,6 +34,11 @@ std::vector<Mesh> load_all(const CommonOptions& o, std::vector<std::size_t>* fil
   for (const std::string& path : o.obstacles) {
     for (auto& m : read_meshes(path, Role::kObstacle)) meshes.push_back(std::move(m));
   }
+  // What a reader skipped, once per mesh, on stderr (also with --report -: stdout carries data).
+  if (!o.quiet)
+    for (const Mesh& m : meshes)
+      for (const std::string& w : m.warnings)
+        std::fprintf(stderr, "warning: %s: %s\n", m.path.c_str(), w.c_str());
   return meshes;
 }
 
@@ -176,6 +182,7 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   options.clearance = o.clearance;
   options.step = o.step;
   options.outside_closed_obstacles = o.outside_closed;
+  options.relax = o.relax;
   options.threads = o.threads;
   std::function<Vec3(const Vec3&)> rounding;
   for (const std::string& out : run.outputs)
@@ -211,6 +218,10 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   detect.threads = o.threads;
   detect.skip_obstacle_pairs = true;
   run.verified = find_intersections(written, detect);
+  // Quality too is judged on what was written (rounded as the format stores it).
+  std::vector<Mesh> as_read = run.meshes;
+  for (std::size_t m = 0; m < as_read.size(); ++m) as_read[m].positions = run.input[m];
+  run.result.quality = measure_quality(as_read, written);
   run.timings.verify = ms_since(verify_start);
   run.timings.total = ms_since(start);
   return run;

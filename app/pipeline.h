@@ -40,6 +40,8 @@ struct CommonOptions {
   double clearance = FixOptions{}.clearance;
   double step = FixOptions{}.step;  // not a fix option (yet), varied by bench
   bool outside_closed = FixOptions{}.outside_closed_obstacles;
+  bool relax = FixOptions{}.relax;
+  QualityBounds bounds;
   bool overwrite = false;
   bool allow_loss = false;  // fix --allow-loss: write although the output drops what export_loss names
   std::string preview_png;  // fix --preview: the picture to write (planned with the outputs)

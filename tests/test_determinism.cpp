@@ -116,7 +116,7 @@ void expect_same_for_every_thread_count(const std::string& command, const scenes
   TempDir dir;
   const Files files = write_scene(scene, dir.file("in"));
   const Outcome reference = run(command, files, dir.path().string(), extra + " --threads 1");
-  ASSERT_TRUE(reference.exit_code == 0 || reference.exit_code == 5)
+  ASSERT_TRUE(reference.exit_code == 0 || reference.exit_code == 5 || reference.exit_code == 6)
       << "exit " << reference.exit_code << ": " << reference.err;
   const std::string reference_report = without_timings(reference.report);
   for (const char* threads : {"2", "0", "2"}) {
@@ -330,9 +330,9 @@ TEST_P(PermutedFix, SamePositionsForEveryOrder) {
   TempDir dir;
   const Files files = write_scene(scene_named(GetParam()), dir.file("in"));
   const Outcome reference = run("fix", files, dir.file("original"), "--threads 0");
-  ASSERT_EQ(reference.exit_code, 0) << reference.err;
+  ASSERT_TRUE(testing::intersection_free(reference.exit_code)) << reference.err;
   const auto expected = run_summary(reference.report);
-  EXPECT_EQ(expected["status"], "clean");
+  EXPECT_TRUE(testing::intersection_free(expected["status"].get<std::string>()));
   const auto expected_moves = moves_by_input_line(files, reference);
   std::uint32_t seed = 1;
   for (const Permutation& p : kPermutations) {
@@ -341,7 +341,7 @@ TEST_P(PermutedFix, SamePositionsForEveryOrder) {
     const Files permuted = permuted_files(files, folder, p.vertices, p.faces, seed);
     seed += 100;
     const Outcome o = run("fix", permuted, folder, "--threads 0");
-    EXPECT_EQ(o.exit_code, 0) << o.err;
+    EXPECT_EQ(o.exit_code, reference.exit_code) << o.err;
     EXPECT_EQ(run_summary(o.report), expected);
     const auto moves = moves_by_input_line(permuted, o);
     ASSERT_EQ(moves.size(), expected_moves.size());

@@ -16,6 +16,7 @@ enum class ExitCode : int {
   kUnreadableInput = 3,
   kOutputNotWritten = 4,
   kIntersecting = 5,  // intersections found (check) or remaining (fix)
+  kDistorted = 6,     // fix: intersection-free, but a mesh's shape beyond the quality bounds
 };
 
 // Thrown for bad input, I/O failure and refused overwrites. `what()` is the full one-line message

@@ -46,6 +46,9 @@ struct FixOptions {
   // iterations (method region: after a second stage from the input and a third from the best
   // state: see fix_meshes).
   int stall_iterations = 12;
+  // After a clean repair, the moved vertices and the rings around them relax toward the input's
+  // shape (their displacements smoothed), every step kept clean by exact detection.
+  bool relax = true;
   int threads = 0;
 };
 
@@ -72,10 +75,35 @@ struct QualityStats {
   // |length / input length - 1| over the edges of nonzero input length: mean, 95th percentile
   // (nearest rank), max.
   double edge_change_mean = 0.0, edge_change_p95 = 0.0, edge_change_max = 0.0;
+  // The largest of length / input length and its inverse over those edges (1 = unchanged; an
+  // edge 1.5 times longer or shorter than it was has 1.5).
+  double max_stretch = 1.0;
   std::size_t flipped_faces = 0;  // triangles whose normal turned by more than 90 degrees
   double max_displacement = 0.0;  // scene units
   double max_displacement_over_mean_edge = 0.0;  // in the mesh's mean input edge lengths
+  double max_displacement_over_diagonal = 0.0;   // in its input bounding box's diagonals
 };
+
+// What a result may change and still count as clean: the guard of `fix` (its status `distorted`,
+// exit 6, when a movable mesh's written shape goes beyond one of these).
+struct QualityBounds {
+  double max_stretch = 1.5;    // QualityStats::max_stretch at most
+  std::size_t max_flips = 0;   // QualityStats::flipped_faces at most
+  double max_move = 0.05;      // QualityStats::max_displacement_over_diagonal at most
+};
+
+// Per mesh, the shape of `output` against `input` (the same meshes in the same order, the same
+// vertex counts; welded as `input` is): what the repair changed. Obstacles get zeros.
+std::vector<QualityStats> measure_quality(const std::vector<Mesh>& input,
+                                          const std::vector<Mesh>& output);
+bool within_bounds(const QualityStats& quality, const QualityBounds& bounds);
+
+// The verdict on a written result: unresolved while a crossing or a vertex inside remains, else
+// distorted when a movable mesh's quality is beyond the bounds, else clean.
+enum class FixStatus { kClean, kUnresolved, kDistorted };
+const char* to_string(FixStatus status);
+FixStatus judge_result(const IntersectionCounts& written, const std::vector<QualityStats>& quality,
+                       const QualityBounds& bounds);
 
 struct FixResult {
   // No crossing and no movable vertex inside an obstacle on the final positions.
@@ -101,6 +129,11 @@ struct FixResult {
   // applying the moves.
   double detect_ms = 0.0, contours_ms = 0.0, resolve_ms = 0.0;
   double regions_ms = 0.0, displace_ms = 0.0;
+  // The shape relaxation after a clean repair (FixOptions::relax): sweeps run, welded vertices it
+  // moved, milliseconds.
+  int relax_sweeps = 0;
+  std::size_t relaxed_vertices = 0;
+  double relax_ms = 0.0;
 };
 
 // Per mesh, per input vertex: 1 = pinned (never moves). Empty = nothing pinned.

@@ -36,6 +36,10 @@ struct Mesh {
   // OBJ: per group, the name of the `o` line in effect where it starts (its own for an `o`
   // group, empty before the first `o`); empty for other formats.
   std::vector<std::string> group_objects;
+  // What the reader skipped and the CLI says on stderr (the library never prints), one line each
+  // without the path: "18 faces with fewer than 3 corners skipped (their lines are kept in the
+  // output)".
+  std::vector<std::string> warnings;
 };
 
 // A label for messages and reports: "path" or "path:name" when the file holds several meshes.

@@ -14,7 +14,9 @@ namespace untangle {
 // 3: untangle_version in every report (2 in the branch that added it), inside_vertices and
 // inside_by_mesh in every counts object, quality in the fix report, and a status that is clean
 // only with no vertex inside an obstacle.
-inline constexpr int kReportSchemaVersion = 3;
+// 4: the fix status `distorted`, quality measured on the files written (with max_stretch,
+// max_displacement_over_diagonal, within_bounds), the bounds and relax among the options, relax.
+inline constexpr int kReportSchemaVersion = 4;
 
 struct CheckTimingsMs {
   double load = 0.0, detect = 0.0, contours = 0.0, total = 0.0;
@@ -36,18 +38,21 @@ struct FixTimingsMs {
          total = 0.0;
 };
 
-// The `fix` report: the check keys (status is clean | unresolved; `before` as detected on the
-// input, `after` and `contours` as detected on the files written), plus method, iterations,
-// stalled, outputs, history (iteration, crossings, contour_length, elapsed_ms), displacement
-// (max, mean, max_over_mean_edge, moved_vertices), quality (per movable mesh: mesh,
-// edge_change_mean, edge_change_p95, edge_change_max, flipped_faces, max_displacement,
-// max_displacement_over_mean_edge), regions (by_inside, by_area), obstacles
+// The `fix` report: the check keys (status is clean | unresolved | distorted, judge_result of the
+// files written; `before` as detected on the input, `after` and `contours` as detected on the
+// files written), plus options (method, max_iterations, clearance, outside_closed_obstacles,
+// relax, max_stretch, max_flips, max_move), iterations, stalled, outputs, history (iteration,
+// crossings, contour_length, elapsed_ms), displacement (max, mean, max_over_mean_edge,
+// moved_vertices), quality (per movable mesh, of the files written against the input: mesh,
+// edge_change_mean, edge_change_p95, edge_change_max, max_stretch, flipped_faces,
+// max_displacement, max_displacement_over_mean_edge, max_displacement_over_diagonal,
+// within_bounds), regions (by_inside, by_area), relax (sweeps, vertices), obstacles
 // (crossing_pairs: FixResult::obstacle_crossing_pairs) and timing_ms (load, detect, contours,
-// resolve, write, verify, total).
+// resolve, relax, write, verify, total).
 std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
                             const std::vector<std::string>& outputs, const FixOptions& options,
-                            const FixResult& result, const Intersections& verified,
-                            const FixTimingsMs& timings);
+                            const QualityBounds& bounds, const FixResult& result,
+                            const Intersections& verified, const FixTimingsMs& timings);
 
 // OBJ text of the contour polylines: one object per contour named
 // `contour_<k>_<type0>_<type1>` (with `_self` for self-intersections), `l` elements through its

@@ -55,6 +55,7 @@ Mesh read_obj(const std::string& path, Role role) {
   std::size_t number = 0;
   std::vector<long long> corners;
   std::size_t faces_total = 0;
+  std::size_t short_faces = 0;  // `f` lines with one or two corners: skipped, kept in the output
   std::string object;  // the name of the last `o` line
   const char* const end_of_text = text.data() + text.size();
   for (const char* at = text.data(); at < end_of_text;) {
@@ -89,7 +90,8 @@ Mesh read_obj(const std::string& path, Role role) {
         }
         corners.push_back(resolved);
       }
-      if (corners.size() < 3) fail(path, number, "face with fewer than 3 corners");
+      if (corners.size() == 0) fail(path, number, "face without corners");
+      if (corners.size() < 3) ++short_faces;
       for (std::size_t c = 2; c < corners.size(); ++c) {
         mesh.triangles.push_back({static_cast<std::uint32_t>(corners[0]),
                                   static_cast<std::uint32_t>(corners[c - 1]),
@@ -117,6 +119,11 @@ Mesh read_obj(const std::string& path, Role role) {
     }
   }
   mesh.source_faces = faces_total;
+  if (short_faces > 0) {
+    mesh.warnings.push_back(std::to_string(short_faces) + (short_faces == 1 ? " face" : " faces") +
+                            " with fewer than 3 corners skipped (their lines are kept in the "
+                            "output)");
+  }
   if (mesh.triangles.empty()) {
     throw Error(ExitCode::kUnreadableInput, path,
                 "no triangles (" + std::to_string(mesh.positions.size()) +

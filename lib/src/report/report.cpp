@@ -125,15 +125,13 @@ std::string check_report_json(const std::vector<Mesh>& meshes, const std::vector
 
 std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<MeshInfo>& infos,
                             const std::vector<std::string>& outputs, const FixOptions& options,
-                            const FixResult& result, const Intersections& verified,
-                            const FixTimingsMs& timings) {
+                            const QualityBounds& bounds, const FixResult& result,
+                            const Intersections& verified, const FixTimingsMs& timings) {
   Json j;
   j["schema_version"] = kReportSchemaVersion;
   j["untangle_version"] = untangle_version();
   j["command"] = "fix";
-  j["status"] = verified.counts.crossings == 0 && verified.counts.inside_vertices == 0
-                    ? "clean"
-                    : "unresolved";
+  j["status"] = to_string(judge_result(verified.counts, result.quality, bounds));
   Json list = Json::array();
   for (std::size_t i = 0; i < meshes.size(); ++i) list.push_back(mesh_entry(meshes[i], infos[i]));
   j["meshes"] = list;
@@ -143,6 +141,10 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   opts["max_iterations"] = options.max_iterations;
   opts["clearance"] = options.clearance;
   opts["outside_closed_obstacles"] = options.outside_closed_obstacles;
+  opts["relax"] = options.relax;
+  opts["max_stretch"] = bounds.max_stretch;
+  opts["max_flips"] = bounds.max_flips;
+  opts["max_move"] = bounds.max_move;
   j["options"] = opts;
   j["iterations"] = result.iterations;
   j["stalled"] = result.stalled;
@@ -174,9 +176,12 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
     e["edge_change_mean"] = q.edge_change_mean;
     e["edge_change_p95"] = q.edge_change_p95;
     e["edge_change_max"] = q.edge_change_max;
+    e["max_stretch"] = q.max_stretch;
     e["flipped_faces"] = q.flipped_faces;
     e["max_displacement"] = q.max_displacement;
     e["max_displacement_over_mean_edge"] = q.max_displacement_over_mean_edge;
+    e["max_displacement_over_diagonal"] = q.max_displacement_over_diagonal;
+    e["within_bounds"] = within_bounds(q, bounds);
     quality.push_back(e);
   }
   j["quality"] = quality;
@@ -184,6 +189,10 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   regions["by_inside"] = result.illegal_regions_by_inside;
   regions["by_area"] = result.illegal_regions_by_area;
   j["regions"] = regions;
+  Json relax;
+  relax["sweeps"] = result.relax_sweeps;
+  relax["vertices"] = result.relaxed_vertices;
+  j["relax"] = relax;
   Json obstacles;
   obstacles["crossing_pairs"] = result.obstacle_crossing_pairs;
   j["obstacles"] = obstacles;
@@ -195,6 +204,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   t["detect"] = timings.detect;
   t["contours"] = timings.contours;
   t["resolve"] = timings.resolve;
+  t["relax"] = result.relax_ms;  // part of resolve
   t["write"] = timings.write;
   t["verify"] = timings.verify;
   t["total"] = timings.total;

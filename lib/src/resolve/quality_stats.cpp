@@ -1,4 +1,5 @@
-// quality_stats: per movable mesh, edge-length change, flipped faces and largest displacement.
+// quality_stats and measure_quality: per movable mesh, edge-length change, flipped faces and
+// largest displacement; within_bounds: the guard of a result.
 #include "resolve/quality_stats.h"
 
 #include <algorithm>
@@ -9,18 +10,25 @@
 namespace untangle {
 
 std::vector<QualityStats> quality_stats(const SceneTopology& topo, const std::vector<Vec3>& input,
-                                        const SceneMeasures& measures) {
-  const std::size_t meshes = measures.role.size();
+                                        const std::vector<Role>& role) {
+  const std::size_t meshes = role.size();
   std::vector<QualityStats> out(meshes);
   std::vector<std::vector<double>> change(meshes);
+  std::vector<double> mean_edge(meshes, 0.0);
+  std::vector<std::size_t> edges(meshes, 0);
   for (const auto& e : topo.edges) {
     const std::uint32_t m = topo.vertex_mesh[e[0]];
-    if (measures.role[m] != Role::kMovable) continue;
     const double before = norm(sub(input[e[0]], input[e[1]]));
-    if (before <= 0.0) continue;
-    change[m].push_back(std::abs(norm(sub(topo.points[e[0]], topo.points[e[1]])) / before - 1.0));
+    mean_edge[m] += before;
+    ++edges[m];
+    if (role[m] != Role::kMovable || before <= 0.0) continue;
+    const double after = norm(sub(topo.points[e[0]], topo.points[e[1]]));
+    change[m].push_back(std::abs(after / before - 1.0));
+    const double stretch = after <= 0.0 ? INFINITY : std::max(after / before, before / after);
+    out[m].max_stretch = std::max(out[m].max_stretch, stretch);
   }
   for (std::size_t m = 0; m < meshes; ++m) {
+    if (edges[m] > 0) mean_edge[m] /= static_cast<double>(edges[m]);
     std::vector<double>& c = change[m];
     if (c.empty()) continue;
     double sum = 0.0;
@@ -33,24 +41,72 @@ std::vector<QualityStats> quality_stats(const SceneTopology& topo, const std::ve
   }
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
     const std::uint32_t m = topo.tri_mesh[t];
-    if (measures.role[m] != Role::kMovable) continue;
+    if (role[m] != Role::kMovable) continue;
     const auto& tri = topo.tris[t];
     const Vec3 n0 = cross(sub(input[tri[1]], input[tri[0]]), sub(input[tri[2]], input[tri[0]]));
     const Vec3 n1 = cross(sub(topo.points[tri[1]], topo.points[tri[0]]),
                           sub(topo.points[tri[2]], topo.points[tri[0]]));
     if (dot(n0, n1) < 0.0) ++out[m].flipped_faces;
   }
+  std::vector<Vec3> lo(meshes, Vec3{INFINITY, INFINITY, INFINITY}), hi(meshes, Vec3{-INFINITY, -INFINITY, -INFINITY});
   for (std::uint32_t v = 0; v < topo.points.size(); ++v) {
     const std::uint32_t m = topo.vertex_mesh[v];
-    if (measures.role[m] != Role::kMovable) continue;
+    if (role[m] != Role::kMovable) continue;
+    for (int a = 0; a < 3; ++a) {
+      lo[m][a] = std::min(lo[m][a], input[v][a]);
+      hi[m][a] = std::max(hi[m][a], input[v][a]);
+    }
     const double d = norm(sub(topo.points[v], input[v]));
     if (d > out[m].max_displacement) {
       out[m].max_displacement = d;
-      out[m].max_displacement_over_mean_edge =
-          measures.mean_edge[m] > 0.0 ? d / measures.mean_edge[m] : 0.0;
+      out[m].max_displacement_over_mean_edge = mean_edge[m] > 0.0 ? d / mean_edge[m] : 0.0;
     }
   }
+  for (std::size_t m = 0; m < meshes; ++m) {
+    const double diagonal = lo[m][0] <= hi[m][0] ? norm(sub(hi[m], lo[m])) : 0.0;
+    out[m].max_displacement_over_diagonal =
+        diagonal > 0.0 ? out[m].max_displacement / diagonal : 0.0;
+  }
   return out;
+}
+
+std::vector<QualityStats> measure_quality(const std::vector<Mesh>& input,
+                                          const std::vector<Mesh>& output) {
+  SceneTopology topo = build_topology(input);
+  const std::vector<Vec3> before = topo.points;
+  std::vector<Role> role;
+  for (std::size_t m = 0; m < input.size(); ++m) {
+    role.push_back(input[m].role);
+    if (m >= output.size() || output[m].positions.size() != input[m].positions.size()) continue;
+    // Each welded vertex takes the output position of its smallest input vertex.
+    for (std::uint32_t i = 0; i < input[m].positions.size(); ++i) {
+      const std::uint32_t v = topo.welded[m][i];
+      if (topo.representative[v] == i) topo.points[v] = output[m].positions[i];
+    }
+  }
+  return quality_stats(topo, before, role);
+}
+
+bool within_bounds(const QualityStats& q, const QualityBounds& bounds) {
+  return q.max_stretch <= bounds.max_stretch && q.flipped_faces <= bounds.max_flips &&
+         q.max_displacement_over_diagonal <= bounds.max_move;
+}
+
+const char* to_string(FixStatus status) {
+  switch (status) {
+    case FixStatus::kClean: return "clean";
+    case FixStatus::kUnresolved: return "unresolved";
+    case FixStatus::kDistorted: return "distorted";
+  }
+  return "unresolved";
+}
+
+FixStatus judge_result(const IntersectionCounts& written, const std::vector<QualityStats>& quality,
+                       const QualityBounds& bounds) {
+  if (written.crossings > 0 || written.inside_vertices > 0) return FixStatus::kUnresolved;
+  for (const QualityStats& q : quality)
+    if (!within_bounds(q, bounds)) return FixStatus::kDistorted;
+  return FixStatus::kClean;
 }
 
 }  // namespace untangle

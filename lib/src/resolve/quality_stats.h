@@ -3,15 +3,14 @@
 
 #include <vector>
 
-#include "resolve/scene_measures.h"
 #include "topology/scene_topology.h"
 #include "untangle/fix.h"
 
 namespace untangle {
 
-// Per mesh, `topo`'s current positions against `input` (per welded vertex); the mean edge
-// lengths are the measures' (of the input). Obstacles get zeros.
+// Per mesh, `topo`'s current positions against `input` (per welded vertex), relative to the input's
+// mean edge lengths and bounding boxes. Obstacles (by `role`) get zeros.
 std::vector<QualityStats> quality_stats(const SceneTopology& topo, const std::vector<Vec3>& input,
-                                        const SceneMeasures& measures);
+                                        const std::vector<Role>& role);
 
 }  // namespace untangle

@@ -23,6 +23,7 @@
 #include "resolve/quality_stats.h"
 #include "resolve/move_kinds.h"
 #include "resolve/region_analysis.h"
+#include "resolve/relax_shape.h"
 #include "resolve/scene_measures.h"
 #include "resolve/surface_queries.h"
 #include "topology/scene_topology.h"
@@ -159,7 +160,17 @@ class RepairLoop {
     }
     result.after = counts;
     result.clean = counts.crossings == 0 && counts.inside_vertices == 0;
-    result.quality = quality_stats(topo_, start_points_, measures_);
+    if (result.clean && options_.relax && hierarchy) {
+      const auto t0 = Clock::now();
+      RelaxShapeInputs relax{measures_, start_points_, round_, detect_, winding_, {},
+                             options_.threads};
+      for (double e : measures_.mean_edge) relax.clearance.push_back(options_.clearance * e);
+      const RelaxShapeResult relaxed = relax_shape(relax, topo_, *hierarchy, inside_, moved_);
+      result.relax_sweeps = relaxed.sweeps;
+      result.relaxed_vertices = relaxed.relaxed;
+      result.relax_ms = ms(t0, Clock::now());
+    }
+    result.quality = quality_stats(topo_, start_points_, measures_.role);
     write_back(result);
     return result;
   }

@@ -1,0 +1,49 @@
+// Shape relaxation after a clean repair: the moved vertices and the rings around them relax toward
+// the input's shape, and exact detection keeps every accepted step free of crossings and of
+// vertices inside an obstacle (DESIGN §5, "Relaxation").
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "detect/detect_crossings.h"
+#include "resolve/inside_vertices.h"
+#include "resolve/moves.h"
+#include "resolve/scene_measures.h"
+#include "topology/scene_topology.h"
+
+namespace untangle {
+
+struct RelaxShapeResult {
+  int sweeps = 0;             // sweeps run
+  std::size_t relaxed = 0;    // welded vertices whose position the relaxation changed
+  std::size_t held = 0;       // proposals turned back because they would cross, go inside or
+                              // lose clearance (summed over sweeps)
+};
+
+// What the relaxation reads: the scene, the input's welded positions, the rounding of the output
+// format, how near an obstacle a vertex may come (scene units, per mesh), and the detection state
+// of the current positions, which must be clean (no crossing, no vertex inside).
+struct RelaxShapeInputs {
+  const SceneMeasures& measures;
+  const std::vector<Vec3>& input;
+  const Rounding& round;
+  const DetectSettings& detect;
+  const ObstacleWinding& winding;
+  std::vector<double> clearance;  // per mesh, scene units
+  int threads = 0;
+};
+
+// Relaxes topo.points in place: displacements from the input are smoothed over the moved vertices
+// and kRelaxRings rings around them (each vertex's displacement pulled halfway toward the mean of
+// its neighbours' per sweep), so that a repair's local push becomes a smooth bump and its shards
+// and flaps open again. A proposal that would make a crossing, put a vertex inside an obstacle or
+// bring it nearer than `clearance` to one (unless it was nearer already and moves away) is turned
+// back, so every sweep ends as clean as it started. `hierarchy` is refitted to the positions left;
+// `set` stays empty. `moved[v]` is set for every vertex the relaxation changed.
+RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
+                             SceneHierarchy& hierarchy, std::vector<std::uint32_t>& inside,
+                             std::vector<std::uint8_t>& moved);
+
+}  // namespace untangle
