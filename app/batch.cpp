@@ -389,15 +389,19 @@ int run_batch(const BatchOptions& o) {
     write_text_file_atomically(o.report, s.json);
   }
   if (show) {
-    std::size_t failed = 0, unresolved = 0;
+    std::size_t failed = 0, unresolved = 0, distorted = 0;
     for (const JobRecord& r : records) {
       failed += r.status == "failed";
       unresolved += r.status == "unresolved";
+      distorted += r.status == "distorted";
     }
-    std::printf("%zu jobs: %zu clean, %zu unresolved, %zu failed\n", records.size(),
-                records.size() - failed - unresolved, unresolved, failed);
+    std::printf("%zu jobs: %zu clean, %zu distorted, %zu unresolved, %zu failed\n", records.size(),
+                records.size() - failed - unresolved - distorted, distorted, unresolved, failed);
     for (const char* name : kSummaryFiles) std::printf("wrote %s\n", (out / name).string().c_str());
-    std::printf("status: %s\n", failed > 0 ? "failed" : unresolved > 0 ? "unresolved" : "clean");
+    std::printf("status: %s\n", failed > 0       ? "failed"
+                                 : unresolved > 0 ? "unresolved"
+                                 : distorted > 0  ? "distorted"
+                                                  : "clean");
   }
   return s.exit_code;
 }

@@ -102,22 +102,24 @@ std::vector<std::string> job_command(const std::string& exe, const BatchJob& job
 
 int job_exit_code(const std::string& status, int fix_exit) {
   if (status == "clean") return 0;
+  if (status == "distorted") return static_cast<int>(ExitCode::kDistorted);
   if (status == "unresolved") return static_cast<int>(ExitCode::kIntersecting);
   if (fix_exit == 2 || fix_exit == 3 || fix_exit == 4) return fix_exit;
   return static_cast<int>(ExitCode::kInternal);
 }
 
 int worst_exit_code(const std::vector<JobRecord>& records) {
-  // From best to worst: clean, unresolved, output not written, unreadable input, usage, crash /
-  // time limit / internal error.
+  // From best to worst: clean, distorted, unresolved, output not written, unreadable input,
+  // usage, crash / time limit / internal error.
   auto rank = [](int code) {
     switch (code) {
       case 0: return 0;
-      case 5: return 1;
-      case 4: return 2;
-      case 3: return 3;
-      case 2: return 4;
-      default: return 5;
+      case 6: return 1;
+      case 5: return 2;
+      case 4: return 3;
+      case 3: return 4;
+      case 2: return 5;
+      default: return 6;
     }
   };
   int worst = 0;
@@ -254,9 +256,10 @@ std::vector<JobRecord> run_jobs(const std::vector<const BatchJob*>& jobs,
         const nlohmann::json j = nlohmann::json::parse(read_text(report), nullptr, false);
         const bool reported = fs::exists(report, ec) && j.is_object() && j.contains("status") &&
                               j["status"].is_string();
-        if ((fix_exit == 0 || fix_exit == 5) && reported) {
+        const bool finished = fix_exit == 0 || fix_exit == 5 || fix_exit == 6;
+        if (finished && reported) {
           rec.status = j["status"].get<std::string>();
-        } else if (fix_exit == 0 || fix_exit == 5) {
+        } else if (finished) {
           rec.reason = "no report written";
         } else {
           const char* kind = fix_exit == 3   ? "unreadable input"

@@ -71,13 +71,13 @@ constexpr const char* kHtmlHead = R"(<!DOCTYPE html>
 body{font-family:sans-serif;margin:1.5em}table{border-collapse:collapse}
 th,td{border:1px solid #ccc;padding:4px 8px;text-align:left;vertical-align:middle}
 th{background:#eee;cursor:pointer}td.n{text-align:right}
-.clean{color:#1a7f37}.unresolved{color:#b35900}.failed{color:#c00;font-weight:bold}
+.clean{color:#1a7f37}.distorted{color:#8250df}.unresolved{color:#b35900}.failed{color:#c00;font-weight:bold}
 img{display:block;max-width:600px}
 </style></head><body>
 )";
 
 // Sorting: a click on a header sorts by that column (data-key when present, else the text), again
-// the other way round; status sorts failed, unresolved, clean.
+// the other way round; status sorts failed, unresolved, distorted, clean.
 constexpr const char* kHtmlScript = R"(<script>
 document.querySelectorAll('th').forEach(function(th, col){
   th.addEventListener('click', function(){
@@ -104,7 +104,7 @@ BatchSummary make_summary(const BatchOptions& o, const BatchPlan& plan,
   BatchSummary summary;
   summary.exit_code = worst_exit_code(records);
   Json jobs = Json::array();
-  std::size_t clean = 0, unresolved = 0, failed = 0, resumed = 0;
+  std::size_t clean = 0, distorted = 0, unresolved = 0, failed = 0, resumed = 0;
   double total_ms = 0.0;
   for (std::size_t k = 0; k < plan.jobs.size(); ++k) {
     const JobRecord& r = records[k];
@@ -123,13 +123,17 @@ BatchSummary make_summary(const BatchOptions& o, const BatchPlan& plan,
     j.erase("time_ms");
     j["time_ms"] = r.time_ms;  // last: the only value that differs between two runs
     clean += r.status == "clean";
+    distorted += r.status == "distorted";
     unresolved += r.status == "unresolved";
     failed += r.status == "failed";
     resumed += r.resumed;
     total_ms += r.time_ms;
     jobs.push_back(j);
   }
-  const char* status = failed > 0 ? "failed" : unresolved > 0 ? "unresolved" : "clean";
+  const char* status = failed > 0       ? "failed"
+                       : unresolved > 0 ? "unresolved"
+                       : distorted > 0  ? "distorted"
+                                        : "clean";
   Json top;
   top["schema_version"] = kSummarySchemaVersion;
   top["untangle_version"] = untangle_version();
@@ -138,13 +142,15 @@ BatchSummary make_summary(const BatchOptions& o, const BatchPlan& plan,
   top["layout"] = plan.layout;
   top["status"] = status;
   top["exit_code"] = summary.exit_code;
-  top["totals"] = {{"jobs", plan.jobs.size()}, {"clean", clean}, {"unresolved", unresolved},
+  top["totals"] = {{"jobs", plan.jobs.size()}, {"clean", clean}, {"distorted", distorted},
+                   {"unresolved", unresolved},
                    {"failed", failed}, {"resumed", resumed}, {"time_ms", total_ms}};
   top["jobs"] = jobs;
   summary.json = top.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 
   const std::string totals = std::to_string(plan.jobs.size()) + " jobs: " + std::to_string(clean) +
-                             " clean, " + std::to_string(unresolved) + " unresolved, " +
+                             " clean, " + std::to_string(distorted) + " distorted, " +
+                             std::to_string(unresolved) + " unresolved, " +
                              std::to_string(failed) + " failed (" + std::to_string(resumed) +
                              " kept from an earlier run)";
   std::ostringstream md;
@@ -165,7 +171,7 @@ BatchSummary make_summary(const BatchOptions& o, const BatchPlan& plan,
        << before_after(j, "inside_vertices") << " | " << (numbers ? number(edge) : "") << " | "
        << (numbers ? std::to_string(flipped) : "") << " | " << number(j["time_ms"].get<double>() / 1000.0, "%.2f")
        << " | " << md_escape(outputs) << " |\n";
-    const int rank = st == "failed" ? 0 : st == "unresolved" ? 1 : 2;
+    const int rank = st == "failed" ? 0 : st == "unresolved" ? 1 : st == "distorted" ? 2 : 3;
     rows << "<tr><td>" << xml_escaped(j["id"].get<std::string>()) << "</td><td class=\"" << st
          << "\" data-key=\"" << rank << "\">" << st << (why.empty() ? "" : ": " + xml_escaped(why))
          << "</td><td class=\"n\">" << xml_escaped(before_after(j, "crossings")) << "</td><td class=\"n\">"

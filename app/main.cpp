@@ -53,7 +53,7 @@ constexpr const char* kExitCodes =
     "     output (fix)\n"
     "  6  fix: the written output is intersection-free, but a movable mesh's shape is beyond\n"
     "     --max-stretch, --max-flips or --max-move (status distorted; the output is written)\n"
-    "  batch exits with its worst job's code: 0, then 5, 4, 3, 2, 1 from best to worst\n";
+    "  batch exits with its worst job's code: 0, then 6, 5, 4, 3, 2, 1 from best to worst\n";
 
 // " (default X)" for a help text, X read from the options struct that holds the default: a default
 // is written in one place only (FixOptions, DetectOptions, BenchOptions).
