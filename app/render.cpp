@@ -80,7 +80,7 @@ CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::stri
   cmd->add_option("--size", o.size, "Picture size in pixels (default " + o.size + ")")
       ->option_text("WxH");
   cmd->add_flag("--contours", o.contours, "Draw the contours in red, over the surfaces");
-  cmd->add_flag("--inside", o.inside, "Tint the faces that take part in crossings (magenta)");
+  cmd->add_flag("--inside", o.inside, "Tint the illegal regions (amber) and the faces that cross (magenta)");
   cmd->add_flag("--overwrite", o.overwrite, "Replace an existing output file (never an input)");
   cmd->add_option("--threads", o.threads,
                   "Worker threads, 0 = all cores; the same bytes for every N (default " +

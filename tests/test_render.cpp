@@ -16,6 +16,8 @@
 #include "untangle/intersections.h"
 #include "untangle/read_meshes.h"
 #include "untangle/render.h"
+#include "geometry/vec3.h"
+#include "resolve/illegal_vertices.h"
 
 namespace untangle {
 namespace {
@@ -309,5 +311,56 @@ TEST(RenderCli, FixPreviewWritesBeforeAfterAndHeat) {
   EXPECT_EQ(missing.exit_code, 4) << missing.err;
 }
 
+// The illegal region of the sheet through the sphere is the disc inside the sphere: the vertices
+// `render --inside` tints amber are those nearer the sphere's centre than its radius, judged here
+// from the sphere's own vertices.
+TEST(Render, IllegalRegionIsTheSheetInsideTheSphere) {
+  const std::vector<Mesh> meshes = scenes::scene_meshes(scenes::sheet_through_sphere());
+  ASSERT_EQ(meshes.size(), 2u);
+  const Mesh& sheet = meshes[0];
+  const Mesh& sphere = meshes[1];
+  ASSERT_EQ(sphere.role, Role::kObstacle);
+  Vec3 centre{0.0, 0.0, 0.0};
+  for (const Vec3& p : sphere.positions)
+    for (int a = 0; a < 3; ++a) centre[a] += p[a] / static_cast<double>(sphere.positions.size());
+  double radius = 0.0;
+  for (const Vec3& p : sphere.positions) radius += norm(sub(p, centre)) / sphere.positions.size();
+  const auto illegal = illegal_vertices(meshes, true, 2);
+  ASSERT_EQ(illegal.size(), 2u);
+  std::size_t inside = 0;
+  for (std::size_t v = 0; v < sheet.positions.size(); ++v) {
+    const double d = norm(sub(sheet.positions[v], centre));
+    if (d < 0.95 * radius) {
+      EXPECT_EQ(illegal[0][v], 1) << "vertex " << v << " inside the sphere";
+      ++inside;
+    }
+    if (d > 1.05 * radius) EXPECT_EQ(illegal[0][v], 0) << "vertex " << v << " outside the sphere";
+  }
+  EXPECT_GT(inside, 10u);
+  for (std::uint8_t f : illegal[1]) EXPECT_EQ(f, 0);  // obstacles are never illegal
+
+  // Drawn: amber pixels (red high, blue low) appear only with --inside. (Inside the sphere the
+  // disc is hidden: a strip through a sheet shows its illegal side.)
+  const std::vector<Mesh> strip = scenes::scene_meshes(scenes::strip_through_sheet());
+  RenderOptions options;
+  options.width = 240;
+  options.height = 240;
+  options.legend = false;
+  options.view = RenderView::kTop;  // the strip's illegal end stands above the sheet
+  auto amber = [&](bool tint) {
+    options.inside = tint;
+    const RgbImage image = render_scene(strip, options, nullptr);
+    std::size_t n = 0;
+    for (std::size_t i = 0; i + 2 < image.pixels.size(); i += 3) {
+      const int r = image.pixels[i], g = image.pixels[i + 1], b = image.pixels[i + 2];
+      if (r > 120 && r > g + 20 && g > b + 40) ++n;
+    }
+    return n;
+  };
+  EXPECT_EQ(amber(false), 0u);
+  EXPECT_GT(amber(true), 100u);
+}
+
 }  // namespace
 }  // namespace untangle
+

@@ -51,8 +51,8 @@ struct RenderMarks {
   // Drawn last in red, over everything, so that they show through the surfaces; about
   // min(width, height) / 160 pixels wide (5 px at 800).
   std::vector<RenderPolyline> contours;
-  // Per mesh, per triangle: non-zero tints the triangle magenta (faces that take part in
-  // crossings, for `render --inside`).
+  // Per mesh, per triangle: 1 tints the triangle magenta (faces that take part in crossings), 2
+  // amber (a corner in an illegal region or inside an obstacle), for `render --inside`.
   std::vector<std::vector<std::uint8_t>> tinted_triangles;
   // Per mesh, per vertex: a value in [0, 1] (clamped) coloured from pale blue (0) through teal
   // and yellow to orange (1) instead of the mesh's own colour: the displacement heat map of
@@ -69,7 +69,7 @@ struct RenderOptions {
   int height = 800;  // pixels, 16 to 8192
   RenderView view = RenderView::kAuto;
   bool contours = false;  // draw the contours (render_before_after always does)
-  bool inside = false;    // tint the faces that take part in crossings
+  bool inside = false;    // tint the illegal regions (amber) and the faces that cross (magenta)
   bool legend = true;     // file names and counts, top left
   int threads = 0;  // 0 = all cores; the picture is the same bytes for every value
 };
@@ -111,8 +111,8 @@ struct RenderSummary {
 
 // The picture of `untangle render`: every mesh shaded in its colour (mesh_colour), fitted to the
 // picture from options.view; with options.contours the contours of find_intersections (default
-// DetectOptions, options.threads) in red, with options.inside the triangles of intersecting pairs
-// tinted; above them (the camera leaves room) a legend with each mesh's file name (without folder; ":name" when a file holds several
+// DetectOptions, options.threads) in red, with options.inside the illegal regions (illegal_vertices)
+// tinted amber and the triangles of intersecting pairs magenta; above them (the camera leaves room) a legend with each mesh's file name (without folder; ":name" when a file holds several
 // meshes), role, vertices and triangles, then the counts and the view. Detection runs only when
 // contours, inside or the auto view need it. Deterministic, never prints.
 RgbImage render_scene(const std::vector<Mesh>& meshes, const RenderOptions& options,

@@ -30,7 +30,8 @@ constexpr std::array<Rgb, 6> kPalette{{{84, 136, 208},
                                        {150, 110, 200},
                                        {168, 166, 76}}};
 constexpr Rgb kContour{222, 16, 16};
-constexpr Rgb kTint{214, 58, 214};
+constexpr Rgb kTint{214, 58, 214};         // tint 1: faces that cross
+constexpr Rgb kIllegalTint{240, 165, 40};  // tint 2: illegal regions
 constexpr double kAmbient = 0.32;
 constexpr double kDiffuse = 0.68;
 constexpr double kBackFace = 0.78;  // back faces are lit like front faces, a little darker
@@ -142,7 +143,8 @@ std::vector<ScreenTriangle> project(const std::vector<Mesh>& meshes, const Rende
         Colour c{double(base[0]), double(base[1]), double(base[2])};
         if (heat != nullptr) c = heat_colour((*heat)[tri[k]]);
         if (tint != nullptr && (*tint)[t] != 0) {
-          for (int i = 0; i < 3; ++i) c[i] = 0.3 * c[i] + 0.7 * kTint[i];
+          const Rgb& to = (*tint)[t] == 1 ? kTint : kIllegalTint;
+          for (int i = 0; i < 3; ++i) c[i] = 0.3 * c[i] + 0.7 * to[i];
         }
         for (int i = 0; i < 3; ++i) s.colour[k][i] = c[i] * light_level;
       }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "resolve/illegal_vertices.h"
 #include "render/legend.h"
 #include "untangle/render.h"
 
@@ -79,9 +80,17 @@ RgbImage render_scene(const std::vector<Mesh>& meshes, const RenderOptions& opti
   RenderMarks marks;
   if (options.contours) marks.contours = contours;
   if (options.inside) {
+    // Amber (2): a triangle with a corner in an illegal region or inside an obstacle; magenta
+    // (1, drawn over amber): a triangle of an intersecting pair.
+    const std::vector<std::vector<std::uint8_t>> illegal =
+        illegal_vertices(meshes, true, options.threads);
     marks.tinted_triangles.resize(meshes.size());
-    for (std::size_t m = 0; m < meshes.size(); ++m)
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
       marks.tinted_triangles[m].assign(meshes[m].triangles.size(), 0);
+      for (std::size_t t = 0; t < meshes[m].triangles.size(); ++t)
+        for (std::uint32_t v : meshes[m].triangles[t])
+          if (v < illegal[m].size() && illegal[m][v]) marks.tinted_triangles[m][t] = 2;
+    }
     for (const auto& pair : found.triangle_pairs) {
       for (int side = 0; side < 2; ++side) {
         const std::uint32_t mesh = pair[2 * side], triangle = pair[2 * side + 1];
@@ -96,7 +105,7 @@ RgbImage render_scene(const std::vector<Mesh>& meshes, const RenderOptions& opti
     last += std::string("view ") + to_string(view);
     add_line(marks, last);
     if (options.contours) add_line(marks, "red: contours");
-    if (options.inside) add_line(marks, "magenta: faces that cross");
+    if (options.inside) add_line(marks, "magenta: faces that cross; amber: illegal regions");
   }
   if (summary != nullptr) {
     summary->view = view;
