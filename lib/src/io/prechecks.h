@@ -29,6 +29,12 @@ void precheck_gltf(const std::string& path, std::uint64_t size);
 // The OFF variants assimp reads (COFF, NOFF, ...): the header's counts against the size.
 void precheck_off(const std::string& path, std::uint64_t size);
 
+// Every precheck that applies to a file assimp is about to read, by its extension (with the dot,
+// lower case) and by its first bytes: for every ReadFile of an input, the reader's and the
+// writer's (read_meshes.cpp).
+void precheck_for_assimp(const std::string& path, const std::string& extension,
+                         std::uint64_t size);
+
 // ----- shared by the prechecks and the reader -----
 
 inline std::string lower(std::string text) {

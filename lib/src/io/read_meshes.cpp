@@ -315,9 +315,10 @@ void collect(const aiScene& scene, const std::string& path, Role role, std::vect
   }
 }
 
-std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std::string& extension,
-                                   std::uint64_t size) {
-  Assimp::Importer importer;
+}  // namespace
+
+void precheck_for_assimp(const std::string& path, const std::string& extension,
+                         std::uint64_t size) {
   const std::string start = file_start(path, 16);
   // The checks go by content, not only by extension: when the importer of a known extension
   // refuses a file, assimp tries every importer on its content, so a PLY file named .glb reaches
@@ -339,6 +340,14 @@ std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std
   if (extension == ".off" || (!stl && keyword.find("off") != std::string::npos)) {
     precheck_off(path, size);
   }
+}
+
+namespace {
+
+std::vector<Mesh> read_with_assimp(const std::string& path, Role role, const std::string& extension,
+                                   std::uint64_t size) {
+  Assimp::Importer importer;
+  precheck_for_assimp(path, extension, size);
 
   const aiScene* scene = nullptr;
   std::string why;

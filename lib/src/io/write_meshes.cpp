@@ -18,6 +18,7 @@
 #include <sstream>
 
 #include "io/deterministic_export.h"
+#include "io/prechecks.h"
 #include "io/read_off.h"
 #include "io/verified_exports.h"
 #include "io/write_gltf_in_place.h"
@@ -264,6 +265,12 @@ std::string export_loss(const std::string& input, const std::string& output) {
   if (in == "obj" && out == "obj") return "";
   if (in == "off" && out == "off") return "";
   if (in == "gltf" && out == "gltf" && can_patch_gltf(input)) return "";
+  // Checked as the reader checks it: a hostile file is refused (exit 3) before assimp sizes its
+  // allocations by what the file claims.
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(input, ec);
+  if (ec) return "";  // unreadable: reading it reports why
+  precheck_for_assimp(input, "." + in, size);
   Assimp::Importer importer;
   const aiScene* scene = importer.ReadFile(input, 0);
   if (scene == nullptr) return "";  // unreadable: reading it reports why
