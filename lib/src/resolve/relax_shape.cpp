@@ -78,6 +78,7 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   std::vector<std::uint8_t> changed(topo.points.size(), 0);
   std::vector<Vec3> from(part.size()), to(part.size());
   std::vector<std::uint8_t> hold(part.size(), 0);
+  std::vector<std::uint8_t> relaxed(part.size(), 0);  // moved by an accepted sweep
   std::vector<std::uint8_t> near(topo.points.size(), 0);  // may have passed through an obstacle
   const CrossingSet none;
   for (int sweep = 0; sweep < kMaxSweeps; ++sweep) {
@@ -191,12 +192,12 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
       if (hold[i]) continue;
       ++accepted;
       moved[part[i]] = 1;
+      relaxed[i] = 1;
       if (obstacles) lower[i] -= norm(sub(to[i], from[i]));
     }
     if (accepted == 0) break;
   }
-  for (std::uint32_t v : part)
-    if (topo.points[v] != in.input[v] && moved[v]) ++result.relaxed;
+  for (std::size_t i = 0; i < part.size(); ++i) result.relaxed += relaxed[i];
   return result;
 }
 
