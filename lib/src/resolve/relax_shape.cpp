@@ -16,9 +16,10 @@ namespace untangle {
 namespace {
 
 constexpr int kRelaxRings = 6;      // rings around the moved vertices that relax with them
-constexpr int kMaxSweeps = 80;      // sweeps at most
+constexpr int kMaxSweeps = 40;      // sweeps at most
 constexpr double kStill = 3e-3;  // a vertex whose proposal is shorter (in mean edges) has settled
 constexpr int kHoldPasses = 8;      // detection passes per sweep before the whole sweep is undone
+constexpr int kRefusals = 3;  // sweeps in a row an exact test holds a vertex before it stays put
 
 // The free vertices the repair moved and kRelaxRings rings of free vertices around them,
 // ascending.
@@ -78,6 +79,7 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   std::vector<std::uint8_t> changed(topo.points.size(), 0);
   std::vector<Vec3> from(part.size()), to(part.size());
   std::vector<std::uint8_t> hold(part.size(), 0);
+  std::vector<std::uint8_t> refused(part.size(), 0);  // sweeps in a row an exact test held it
   std::vector<std::uint8_t> relaxed(part.size(), 0);  // moved by an accepted sweep
   std::vector<std::uint8_t> near(topo.points.size(), 0);  // may have passed through an obstacle
   const CrossingSet none;
@@ -113,6 +115,7 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
       const double step = norm(sub(target, from[i])) / measures.mean_edge[topo.vertex_mesh[v]];
       largest = std::max(largest, step);
       if (target == from[i] || step < kStill) continue;  // settled: not tested again
+      if (refused[i] >= kRefusals) continue;  // its way is blocked: not proposed again
       to[i] = target;
       movers.push_back(i);
     }
@@ -120,11 +123,16 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
     ++result.sweeps;
 
     // Clearance first: a vertex that would come nearer than its clearance to an obstacle, and
-    // nearer than it is, holds. (Lifting such a proposal back out to the clearance, away from its
-    // closest point, made the vertices slide together where the body has a crease: on the
-    // MakeHuman shoulders edges shrank to 0.39 of their length instead of 0.57.) A vertex whose
-    // step is shorter than its distance to the obstacles cannot pass through one, so it stays
-    // outside: only the others are tested for inside.
+    // nearer than it is, slides instead: the part of its step toward the obstacle (along the
+    // direction from its closest point) is dropped, the part along the surface kept, so that a
+    // vertex pressed against the body can still spread the strain sideways (on the MakeHuman
+    // garments the largest edge-length ratio fell from 1.24 to 1.15, and from 1.75 to 1.65 at the
+    // female cuffs). If the slid step still comes nearer than the clearance, the vertex holds.
+    // (Lifting a proposal back out to the clearance, away from its closest point, made vertices
+    // slide together where the body has a crease: on the MakeHuman shoulders edges shrank to 0.39
+    // of their length instead of 0.57.) A vertex whose step is shorter than its distance to the
+    // obstacles cannot pass through one, so it stays outside: only the others are tested for
+    // inside.
     std::vector<std::size_t> trying;
     std::fill(near.begin(), near.end(), 0);
     for (std::size_t i : movers) {
@@ -133,7 +141,22 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
       const double clearance = in.clearance[topo.vertex_mesh[v]];
       if (obstacles && lower[i] - step < clearance) {
         lower[i] = distance(from[i]);
-        const double next = distance(to[i]);
+        double next = distance(to[i]);
+        if (next < clearance && next < lower[i] && lower[i] > 0.0) {
+          const auto c = obstacles->tree.closest_point(
+              TreeKernel::Point_3(from[i][0], from[i][1], from[i][2]));
+          const Vec3 n = scale(sub(from[i], Vec3{c.x(), c.y(), c.z()}), 1.0 / lower[i]);
+          Vec3 d = sub(to[i], from[i]);
+          const double toward = dot(d, n);
+          if (toward < 0.0) d = sub(d, scale(n, toward));
+          Vec3 slid = add(from[i], d);
+          if (in.round) slid = in.round(slid);
+          const double there = distance(slid);
+          if (slid != from[i] && there >= std::min(clearance, lower[i])) {
+            to[i] = slid;
+            next = there;
+          }
+        }
         if (next < clearance && next < lower[i]) {
           ++result.held;
           continue;
@@ -189,8 +212,12 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
     std::size_t accepted = 0;
     for (std::size_t i : trying) {
       changed[part[i]] = 0;
-      if (hold[i]) continue;
+      if (hold[i]) {
+        ++refused[i];
+        continue;
+      }
       ++accepted;
+      refused[i] = 0;
       moved[part[i]] = 1;
       relaxed[i] = 1;
       if (obstacles) lower[i] -= norm(sub(to[i], from[i]));

@@ -38,9 +38,10 @@ struct RelaxShapeInputs {
 // Relaxes topo.points in place: displacements from the input are smoothed over the moved vertices
 // and kRelaxRings rings around them (each vertex's displacement pulled halfway toward the mean of
 // its neighbours' per sweep), so that a repair's local push becomes a smooth bump and its shards
-// and flaps open again. A proposal that would make a crossing, put a vertex inside an obstacle or
-// bring it nearer than `clearance` to one (unless it was nearer already and moves away) is turned
-// back, so every sweep ends as clean as it started. `hierarchy` is refitted to the positions left;
+// and flaps open again. A proposal that would bring a vertex nearer than `clearance` to an
+// obstacle (and nearer than it is) slides along the obstacle instead, or holds; one that would
+// make a crossing or put a vertex inside an obstacle is turned back, and a vertex turned back
+// kRefusals sweeps in a row stays where it is. Every sweep ends as clean as it started. `hierarchy` is refitted to the positions left;
 // `set` stays empty. `moved[v]` is set for every vertex the relaxation changed.
 RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
                              SceneHierarchy& hierarchy, std::vector<std::uint32_t>& inside,
