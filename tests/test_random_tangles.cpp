@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -243,6 +244,45 @@ std::string coincident_vertices(const Mesh& mesh) {
   return "";
 }
 
+// Crossings by what they join: [0] a movable mesh and an obstacle, [1] a mesh and itself, [2] two
+// movable meshes; [3] movable vertices inside an obstacle.
+std::array<std::size_t, 4> crossing_kinds(const std::vector<Mesh>& meshes,
+                                          const Intersections& found) {
+  std::array<std::size_t, 4> kinds{};
+  for (const Crossing& x : found.crossings) {
+    if (meshes[x.edge_mesh].role == Role::kObstacle || meshes[x.face_mesh].role == Role::kObstacle)
+      ++kinds[0];
+    else if (x.edge_mesh == x.face_mesh)
+      ++kinds[1];
+    else
+      ++kinds[2];
+  }
+  kinds[3] = found.counts.inside_vertices;
+  return kinds;
+}
+
+// The largest displacement of a vertex of `written[m]` from `input[m]`, in diagonals of the input
+// mesh's bounding box, over the movable meshes.
+double largest_move_over_diagonal(const std::vector<Mesh>& input, const std::vector<Mesh>& written) {
+  double largest = 0.0;
+  for (std::size_t m = 0; m < written.size(); ++m) {
+    if (input[m].role != Role::kMovable || input[m].positions.empty()) continue;
+    Vec3 lo = input[m].positions[0], hi = lo;
+    for (const Vec3& p : input[m].positions)
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], p[k]);
+        hi[k] = std::max(hi[k], p[k]);
+      }
+    const double diagonal = std::hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]);
+    for (std::size_t v = 0; v < written[m].positions.size(); ++v) {
+      const Vec3& a = input[m].positions[v];
+      const Vec3& b = written[m].positions[v];
+      largest = std::max(largest, std::hypot(b[0] - a[0], b[1] - a[1], b[2] - a[2]) / diagonal);
+    }
+  }
+  return largest;
+}
+
 struct Tally {
   std::size_t cases = 0, tangled = 0, clean = 0, unresolved = 0;
   std::size_t crossings_before = 0, crossings_after = 0;
@@ -272,7 +312,8 @@ void check_fix(const scenes::RandomTangle& tangle, Tally& tally) {
   std::vector<Mesh> input = read_all(files.movable, Role::kMovable);
   const std::vector<Mesh> obstacles = read_all(files.obstacles, Role::kObstacle);
   input.insert(input.end(), obstacles.begin(), obstacles.end());
-  const std::size_t before = detect_as_fix_does(input).counts.crossings;
+  const Intersections found_before = detect_as_fix_does(input);
+  const std::size_t before = found_before.counts.crossings;
   EXPECT_EQ(report["before"]["crossings"].get<std::size_t>(), before);
 
   // The written files, read back, with the obstacles.
@@ -317,6 +358,18 @@ void check_fix(const scenes::RandomTangle& tangle, Tally& tally) {
     if (after.counts.crossings > 0) {
       EXPECT_FALSE(report["contours"].empty()) << "exit 5 without a remaining contour listed";
     }
+    // Never worse than the input: no kind of crossing and no inside count grows, and no vertex
+    // moves beyond FixOptions::max_written_move diagonals of its mesh.
+    const auto kinds_before = crossing_kinds(input, found_before);
+    const auto kinds_after = crossing_kinds(written, after);
+    const char* names[] = {"against obstacles", "self", "between movable meshes", "inside"};
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_LE(kinds_after[k], kinds_before[k])
+          << "unresolved, and the written files have more crossings " << names[k]
+          << " than the input";
+    }
+    EXPECT_LE(largest_move_over_diagonal(input, written), FixOptions{}.max_written_move)
+        << "unresolved, and a vertex moved further than max_written_move diagonals";
     ++tally.unresolved;
   }
   ++tally.cases;

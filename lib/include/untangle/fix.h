@@ -49,6 +49,11 @@ struct FixOptions {
   // After a clean repair, the moved vertices and the rings around them relax toward the input's
   // shape (their displacements smoothed), every step kept clean by exact detection.
   bool relax = true;
+  // An unresolved run writes its best state among those no worse than the input: no more
+  // crossings of each kind (movable against obstacle, mesh against itself, between movable
+  // meshes) and no more inside vertices than the input, and no vertex moved further than this
+  // many diagonals of its mesh's input bounding box. The input itself always qualifies.
+  double max_written_move = 0.25;
   int threads = 0;
 };
 

@@ -70,6 +70,7 @@ class RepairLoop {
     region_settings_.winding = &winding_;
     moved_.assign(topo_.points.size(), 0);
     start_points_ = topo_.points;
+    diagonal_ = input_diagonals();
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, detect_.skip_among);
     detect_.skipped_bvh = obstacle_bvh_.get();
   }
@@ -80,6 +81,8 @@ class RepairLoop {
     result.obstacle_crossing_pairs = measures_.obstacle_crossing_pairs;
     std::size_t best_crossings = static_cast<std::size_t>(-1);  // and inside vertices
     double best_length = INFINITY;
+    std::size_t written_illegal = static_cast<std::size_t>(-1);
+    double written_length = INFINITY;
     int since_best = 0;
     // After the first iteration only what moved is tested again (update_crossings), on per-mesh
     // hierarchies refitted to the new positions.
@@ -112,7 +115,19 @@ class RepairLoop {
       // A vertex inside an obstacle counts like a crossing (DESIGN §4): the best state has the
       // fewest of both together, then the shortest contours.
       const std::size_t illegal = counts.crossings + counts.inside_vertices;
-      if (iteration == 0) result.before = counts;
+      const CrossingKinds kinds = crossing_kinds(set, counts);
+      if (iteration == 0) {
+        result.before = counts;
+        input_kinds_ = kinds;
+      }
+      if ((illegal < written_illegal ||
+           (illegal == written_illegal && counts.contour_length < written_length)) &&
+          no_worse_than_input(kinds)) {
+        written_points_ = topo_.points;  // the state written if the run ends unresolved
+        written_counts_ = counts;
+        written_illegal = illegal;
+        written_length = counts.contour_length;
+      }
       IterationRecord record;
       record.iteration = iteration;
       record.crossings = counts.crossings;
@@ -127,10 +142,8 @@ class RepairLoop {
         break;
       }
       if (illegal < best_crossings ||
-          (illegal == best_crossings && counts.contour_length < best_length)) {
-        best_points_ = topo_.points;  // the state written if the run ends unresolved
-        best_counts_ = counts;
-      }
+          (illegal == best_crossings && counts.contour_length < best_length))
+        best_points_ = topo_.points;  // where stage 3 starts
       if (illegal < best_crossings || counts.contour_length < best_length * (1.0 - 1e-3)) {
         best_crossings = std::min(best_crossings, illegal);
         best_length = std::min(best_length, counts.contour_length);
@@ -152,11 +165,12 @@ class RepairLoop {
         break;
       }
     }
-    // Unresolved: the best state is what is written. Its counts are the loop's own; the written
-    // file is detected once more by the caller (the written files are the truth).
-    if (!result.clean && !best_points_.empty()) {
-      topo_.points = best_points_;
-      counts = best_counts_;
+    // Unresolved: the best state no worse than the input is what is written (never_worse). Its
+    // counts are the loop's own; the written file is detected once more by the caller (the
+    // written files are the truth).
+    if (!result.clean && !written_points_.empty()) {
+      topo_.points = written_points_;
+      counts = written_counts_;
     }
     result.after = counts;
     result.clean = counts.crossings == 0 && counts.inside_vertices == 0;
@@ -176,6 +190,63 @@ class RepairLoop {
   }
 
  private:
+  // A state's crossings by what they join, and its inside vertices.
+  struct CrossingKinds {
+    std::size_t obstacle = 0;  // a movable mesh against an obstacle
+    std::size_t self = 0;      // a mesh against itself
+    std::size_t between = 0;   // two movable meshes
+    std::size_t inside = 0;    // movable vertices inside an obstacle
+  };
+
+  CrossingKinds crossing_kinds(const CrossingSet& set, const IntersectionCounts& counts) const {
+    CrossingKinds k;
+    for (const RawCrossing& x : set.items) {
+      const std::uint32_t a = topo_.edge_mesh(x.edge), b = topo_.tri_mesh[x.face];
+      if (measures_.role[a] == Role::kObstacle || measures_.role[b] == Role::kObstacle)
+        ++k.obstacle;
+      else if (a == b)
+        ++k.self;
+      else
+        ++k.between;
+    }
+    k.inside = counts.inside_vertices;
+    return k;
+  }
+
+  // Per mesh, its input bounding box's diagonal (0 for an empty mesh).
+  std::vector<double> input_diagonals() const {
+    std::vector<Vec3> lo(meshes_.size(), Vec3{INFINITY, INFINITY, INFINITY});
+    std::vector<Vec3> hi(meshes_.size(), Vec3{-INFINITY, -INFINITY, -INFINITY});
+    for (std::uint32_t v = 0; v < start_points_.size(); ++v) {
+      const std::uint32_t m = topo_.vertex_mesh[v];
+      for (int k = 0; k < 3; ++k) {
+        lo[m][k] = std::min(lo[m][k], start_points_[v][k]);
+        hi[m][k] = std::max(hi[m][k], start_points_[v][k]);
+      }
+    }
+    std::vector<double> out(meshes_.size(), 0.0);
+    for (std::size_t m = 0; m < out.size(); ++m)
+      if (lo[m][0] <= hi[m][0]) out[m] = norm(sub(hi[m], lo[m]));
+    return out;
+  }
+
+  // Never worse than the input (DESIGN §5): a state may be written only if it has no more
+  // crossings of any kind (against obstacles, of a mesh with itself, between movable meshes) and
+  // no more inside vertices than the input, and moves no vertex further than
+  // options_.max_written_move diagonals of its mesh's input bounding box. The input qualifies.
+  bool no_worse_than_input(const CrossingKinds& k) const {
+    if (k.obstacle > input_kinds_.obstacle || k.self > input_kinds_.self ||
+        k.between > input_kinds_.between || k.inside > input_kinds_.inside)
+      return false;
+    for (std::uint32_t v = 0; v < topo_.points.size(); ++v) {
+      if (topo_.points[v] == start_points_[v]) continue;
+      const double diagonal = diagonal_[topo_.vertex_mesh[v]];
+      if (norm(sub(topo_.points[v], start_points_[v])) > options_.max_written_move * diagonal)
+        return false;
+    }
+    return true;
+  }
+
   bool escalate(std::unique_ptr<SceneHierarchy>& hierarchy, int& since_best) {
     if (stage_ >= 3 || best_points_.empty() || options_.method != FixMethod::kRegion) return false;
     ++stage_;
@@ -326,8 +397,11 @@ class RepairLoop {
   int stage_ = 1;
   std::vector<std::uint8_t> moved_;  // per welded vertex: moved at least once
   std::vector<Vec3> start_points_;
-  std::vector<Vec3> best_points_;
-  IntersectionCounts best_counts_;
+  std::vector<double> diagonal_;  // per mesh: input_diagonals
+  CrossingKinds input_kinds_;
+  std::vector<Vec3> best_points_;     // the fewest crossings and inside vertices so far
+  std::vector<Vec3> written_points_;  // the same among the states no worse than the input
+  IntersectionCounts written_counts_;
 };
 
 }  // namespace
