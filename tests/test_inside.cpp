@@ -8,6 +8,9 @@
 
 #include <cmath>
 #include <cstddef>
+#include <string>
+#include <cstdlib>
+#include <cstdio>
 #include <utility>
 #include <vector>
 
@@ -197,6 +200,132 @@ TEST(Inside, SheetThroughSelfIntersectingBody) {
 
   const FixResult result = fix_meshes(meshes, FixOptions{});
   expect_clean(result, meshes, body);
+}
+
+// A figure of capsules: a torso (z up), two legs overlapping the torso and each other at the
+// crotch, two arms overlapping the torso at the shoulders. Irrational-looking offsets keep the
+// capsules' vertices off each other's faces.
+std::vector<Mesh> figure_parts() {
+  std::vector<Mesh> parts;
+  parts.push_back(scenes::capsule({0.0013, -0.0021, 0.0}, 0.5, 1.2, 40, 13, "torso"));
+  parts.push_back(scenes::capsule({0.1837, 0.0031, -1.2}, 0.2, 1.0, 24, 11, "left_leg"));
+  parts.push_back(scenes::capsule({-0.1849, -0.0027, -1.2}, 0.2, 1.0, 24, 11, "right_leg"));
+  // Arms along x at shoulder height, from inside the torso outwards.
+  parts.push_back(scenes::rotated(scenes::capsule({0, 0, 0}, 0.14, 0.9, 20, 9, "left_arm"), 1,
+                                  0.5 * 3.14159265358979, {0.7013, 0.0041, 0.46}));
+  parts.push_back(scenes::rotated(scenes::capsule({0, 0, 0}, 0.14, 0.9, 20, 9, "right_arm"), 1,
+                                  0.5 * 3.14159265358979, {-0.7029, -0.0037, 0.46}));
+  return parts;
+}
+
+// A shirt (an open tube around the torso, shifted so that one side sinks into it) and a skirt (an
+// open tube around the hips, narrower than the legs are apart: the legs pass through it).
+std::vector<Mesh> shirt_and_skirt() {
+  std::vector<Mesh> garments;
+  garments.push_back(scenes::open_tube({0.0537, 0.0113, -0.05}, 0.52, 0.7, 48, 15, "shirt"));
+  garments.push_back(scenes::open_tube({0.0021, 0.0017, -1.02}, 0.37, 0.36, 48, 9, "skirt"));
+  return garments;
+}
+
+// The winding number of the closed figure (the parts' sum) at p, by the ray cast.
+int figure_winding(const std::vector<Mesh>& parts, const Vec3& p) {
+  int w = 0;
+  for (const Mesh& part : parts) w += ray_winding(part, p);
+  return w;
+}
+
+std::size_t inside_figure(const Mesh& garment, const std::vector<Mesh>& parts) {
+  std::size_t n = 0;
+  for (const Vec3& p : garment.positions) n += figure_winding(parts, p) > 0 ? 1 : 0;
+  return n;
+}
+
+// Prints a scene's figures (never asserted), and with UNTANGLE_INSIDE_KEEP=DIR writes the meshes
+// before and after into DIR (NAME_<mesh>_before.obj, NAME_<mesh>_after.obj) for a look.
+void report_figure_scene(const std::string& name, const std::vector<Mesh>& input,
+                         const std::vector<Mesh>& output, const FixResult& result) {
+  std::printf("[ %s ] before: %zu crossings, %zu inside; after %d iterations: %zu crossings, %zu "
+              "inside; moved %zu vertices, max %.3f mean edges\n",
+              name.c_str(), result.before.crossings, result.before.inside_vertices,
+              result.iterations, result.after.crossings, result.after.inside_vertices,
+              result.displacement.moved_vertices, result.displacement.max_over_mean_edge);
+  const std::vector<QualityStats> quality = measure_quality(input, output);
+  for (std::size_t m = 0; m < output.size(); ++m)
+    if (output[m].role == Role::kMovable)
+      std::printf("[ %s ] %s: largest edge-length ratio %.3f, p95 change %.4f, %zu flipped\n",
+                  name.c_str(), output[m].name.c_str(), quality[m].max_stretch,
+                  quality[m].edge_change_p95, quality[m].flipped_faces);
+  const char* keep = std::getenv("UNTANGLE_INSIDE_KEEP");
+  if (keep == nullptr || *keep == '\0') return;
+  for (std::size_t m = 0; m < output.size(); ++m) {
+    const std::string stem = std::string(keep) + "/" + name + "_" + output[m].name;
+    scenes::write_obj(input[m], stem + "_before.obj");
+    scenes::write_obj(output[m], stem + "_after.obj");
+  }
+}
+
+// Issue 20's open body: one mesh that passes through itself where the limbs meet the torso and
+// the legs each other, open at a neck hole, an eye hole and a hole under one foot, with a shirt
+// and a skirt on it. The winding number says where inside is despite the holes and the overlaps;
+// the repair ends with no crossing and no garment vertex inside, judged again by the ray cast on
+// the closed parts.
+TEST(Inside, ShirtAndSkirtOnOpenSelfIntersectingBody) {
+  const std::vector<Mesh> parts = figure_parts();
+  Mesh body = parts[0];
+  for (std::size_t i = 1; i < parts.size(); ++i) body = scenes::merged(body, parts[i], "body");
+  body = with_holes(body, {{0.0013, -0.0021, 1.1}, {0.17, 0.47, 0.75}, {0.1837, 0.0031, -1.9}},
+                    0.09);
+  body.role = Role::kObstacle;
+  std::vector<Mesh> meshes = shirt_and_skirt();
+  meshes.push_back(body);
+  const Intersections before = detect(meshes);
+  ASSERT_GT(before.counts.crossings, 0u);
+  EXPECT_EQ(before.counts.inside_vertices,
+            inside_figure(meshes[0], parts) + inside_figure(meshes[1], parts));
+  EXPECT_GT(inside_figure(meshes[0], parts), 0u);
+  EXPECT_GT(inside_figure(meshes[1], parts), 0u);
+
+  const std::vector<Mesh> input = meshes;
+  const FixResult result = fix_meshes(meshes, FixOptions{});
+  report_figure_scene("open_body", input, meshes, result);
+  EXPECT_TRUE(result.clean);
+  const Intersections again = detect(meshes);
+  EXPECT_EQ(again.counts.crossings, 0u);
+  EXPECT_EQ(again.counts.inside_vertices, 0u);
+  EXPECT_EQ(inside_figure(meshes[0], parts), 0u);
+  EXPECT_EQ(inside_figure(meshes[1], parts), 0u);
+  const std::vector<QualityStats> quality = measure_quality(input, meshes);
+  for (std::size_t m = 0; m < 2; ++m) {
+    EXPECT_EQ(quality[m].flipped_faces, 0u) << meshes[m].name;
+    EXPECT_LE(quality[m].max_stretch, QualityBounds{}.max_stretch) << meshes[m].name;
+  }
+}
+
+// Issue 20's articulated figure: the same parts as separate closed meshes (rigid segments that
+// overlap at the joints), a shirt over the torso segment. Each segment is its own obstacle.
+TEST(Inside, ShirtOnArticulatedFigure) {
+  const std::vector<Mesh> parts = figure_parts();
+  std::vector<Mesh> meshes = {shirt_and_skirt()[0]};
+  for (Mesh part : parts) {
+    part.role = Role::kObstacle;
+    meshes.push_back(part);
+  }
+  const Intersections before = detect(meshes);
+  ASSERT_GT(before.counts.crossings, 0u);
+  EXPECT_EQ(before.counts.inside_vertices, inside_figure(meshes[0], parts));
+  EXPECT_GT(before.counts.inside_vertices, 0u);
+
+  const std::vector<Mesh> input = meshes;
+  const FixResult result = fix_meshes(meshes, FixOptions{});
+  report_figure_scene("articulated", input, meshes, result);
+  EXPECT_TRUE(result.clean);
+  const Intersections again = detect(meshes);
+  EXPECT_EQ(again.counts.crossings, 0u);
+  EXPECT_EQ(again.counts.inside_vertices, 0u);
+  EXPECT_EQ(inside_figure(meshes[0], parts), 0u);
+  const QualityStats quality = measure_quality(input, meshes)[0];
+  EXPECT_EQ(quality.flipped_faces, 0u);
+  EXPECT_LE(quality.max_stretch, QualityBounds{}.max_stretch);
 }
 
 }  // namespace
