@@ -232,6 +232,11 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
     std::printf("moved %zu vertices, max %.6g (%.3g mean edge lengths), mean %.6g\n",
                 result.displacement.moved_vertices, result.displacement.max,
                 result.displacement.max_over_mean_edge, result.displacement.mean);
+    for (const untangle::RetryRecord& r : result.retries) {
+      std::printf("retried with clearance %.3g: %s, %zu crossings, %zu inside after %d iterations%s\n",
+                  r.clearance, r.clean ? "clean" : "unresolved", r.crossings, r.inside_vertices,
+                  r.iterations, r.kept ? " (kept)" : "");
+    }
     for (std::size_t k = 0; k < outputs.size(); ++k) std::printf("wrote %s\n", outputs[k].c_str());
     if (result.obstacle_crossing_pairs > 0) {
       std::printf("obstacles: %zu triangle pairs of closed obstacles cross (themselves or each "
@@ -368,6 +373,11 @@ int main(int argc, char** argv) {
   fix->add_flag_callback("--no-relax", [&fix_options] { fix_options.relax = false; },
                 "Skip the shape relaxation after a clean repair (moved vertices and the rings around "
                 "them relax toward the input's shape, every step kept clean)");
+  fix->add_option("--retries", fix_options.retries,
+                  "Retries of an unresolved run, from the input, each with the clearance doubled; "
+                  "the first clean one is kept" + default_is(fix_options.retries))
+      ->check(CLI::Range(0, 8))
+      ->option_text("N");
   fix->add_option("--max-stretch", fix_options.bounds.max_stretch,
                   "Quality bound: no edge of a movable mesh longer or shorter than X times its input "
                   "length" + default_is(fix_options.bounds.max_stretch))

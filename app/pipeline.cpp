@@ -183,6 +183,7 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   options.step = o.step;
   options.outside_closed_obstacles = o.outside_closed;
   options.relax = o.relax;
+  options.retries = o.retries;
   options.threads = o.threads;
   std::function<Vec3(const Vec3&)> rounding;
   for (const std::string& out : run.outputs)

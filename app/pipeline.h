@@ -41,6 +41,7 @@ struct CommonOptions {
   double step = FixOptions{}.step;  // not a fix option (yet), varied by bench
   bool outside_closed = FixOptions{}.outside_closed_obstacles;
   bool relax = FixOptions{}.relax;
+  int retries = FixOptions{}.retries;
   QualityBounds bounds;
   bool overwrite = false;
   bool allow_loss = false;  // fix --allow-loss: write although the output drops what export_loss names

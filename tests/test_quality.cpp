@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -97,9 +98,9 @@ struct Fixed {
   Mesh input, output, body;
 };
 
-Fixed fix_shipped_pair(const TempDir& dir, const std::string& extra) {
+Fixed fix_shipped_pair(const TempDir& dir, const std::string& extra,
+                       const std::string& body = (kMakeHuman / "male_generic.obj").string()) {
   const std::string garment = (kMakeHuman / "male_casualsuit04.obj").string();
-  const std::string body = (kMakeHuman / "male_generic.obj").string();
   const std::string out = dir.file("fixed.obj"), report = dir.file("fixed.json");
   const testing::RunResult r = run_cli("fix " + quote(garment) + " --obstacle " + quote(body) +
                                        " -o " + quote(out) + " --report " + quote(report) +
@@ -131,6 +132,72 @@ TEST(Quality, ShippedPairEndsCleanWithinTheBounds) {
   EXPECT_NEAR(q["max_stretch"].get<double>(), s.stretch, 1e-9);
   EXPECT_EQ(q["flipped_faces"].get<std::size_t>(), s.flipped);
   EXPECT_TRUE(q["within_bounds"].get<bool>());
+}
+
+// The shipped body scaled by `factor` about its bounding box's centre, its `v` lines written with
+// six decimals (as Blender's OBJ exporter writes them), every other line as it is.
+std::string scaled_body_six_decimals(const TempDir& dir, double factor) {
+  const std::string text = read_text((kMakeHuman / "male_generic.obj").string());
+  const Mesh body = read_meshes((kMakeHuman / "male_generic.obj").string(), Role::kObstacle).at(0);
+  Vec3 lo = body.positions[0], hi = lo;
+  for (const Vec3& p : body.positions)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], p[k]);
+      hi[k] = std::max(hi[k], p[k]);
+    }
+  std::string out;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.find('\n', start);
+    if (end == std::string::npos) end = text.size();
+    const std::string line = text.substr(start, end - start);
+    start = end + 1;
+    double x, y, z;
+    if (line.rfind("v ", 0) == 0 && std::sscanf(line.c_str(), "v %lf %lf %lf", &x, &y, &z) == 3) {
+      const double p[3] = {x, y, z};
+      char buffer[128];
+      double q[3];
+      for (int k = 0; k < 3; ++k) {
+        const double centre = 0.5 * (lo[k] + hi[k]);
+        q[k] = centre + factor * (p[k] - centre);
+      }
+      std::snprintf(buffer, sizeof buffer, "v %.6f %.6f %.6f", q[0], q[1], q[2]);
+      out += buffer;
+    } else {
+      out += line;
+    }
+    out += '\n';
+  }
+  const std::string path = dir.file("body_scaled.obj");
+  write_text(path, out);
+  return path;
+}
+
+// Issue 21's fragile case: the body 2% larger, written with six decimals, stalls the shipped
+// garment at the default clearance; twice the clearance resolves it. fix retries by itself and
+// says so; without retries the same run ends unresolved.
+TEST(Quality, UnresolvedRunIsRetriedWithALargerClearance) {
+  TempDir dir;
+  const std::string body = scaled_body_six_decimals(dir, 1.02);
+  const Fixed once = fix_shipped_pair(dir, "--retries 0", body);
+  ASSERT_EQ(once.exit_code, 5) << once.report.dump(1);
+  EXPECT_EQ(once.report["status"], "unresolved");
+  EXPECT_TRUE(once.report["retries"].empty());
+
+  const Fixed f = fix_shipped_pair(dir, "--overwrite", body);
+  ASSERT_TRUE(testing::intersection_free(f.exit_code)) << f.report.dump(1);
+  EXPECT_EQ(garment_pairs(f.output, f.body), 0u);
+  const auto& retries = f.report["retries"];
+  ASSERT_FALSE(retries.empty());
+  const auto& kept = retries.back();
+  EXPECT_TRUE(kept["kept"].get<bool>());
+  EXPECT_TRUE(kept["clean"].get<bool>());
+  // Each retry doubles the clearance of the one before.
+  EXPECT_DOUBLE_EQ(kept["clearance"].get<double>(),
+                   std::ldexp(f.report["options"]["clearance"].get<double>(),
+                              static_cast<int>(retries.size())));
+  EXPECT_DOUBLE_EQ(f.report["clearance"].get<double>(), kept["clearance"].get<double>());
+  EXPECT_EQ(f.report["before"]["crossings"], once.report["before"]["crossings"]);
 }
 
 TEST(Quality, RelaxationSmoothsWhatTheRepairPushed) {

@@ -54,6 +54,12 @@ struct FixOptions {
   // meshes) and no more inside vertices than the input, and no vertex moved further than this
   // many diagonals of its mesh's input bounding box. The input itself always qualifies.
   double max_written_move = 0.25;
+  // A run that ends unresolved (not cancelled) is retried from the input up to this many times,
+  // each with the clearance doubled (a larger gap makes each step's penetration shallower where
+  // the moves overshoot one another); the first clean attempt is kept, else the one with the
+  // fewest crossings plus inside vertices (the first on a tie). Counted in attempts, not seconds,
+  // so that the result does not depend on the machine.
+  int retries = 2;
   int threads = 0;
 };
 
@@ -110,6 +116,15 @@ const char* to_string(FixStatus status);
 FixStatus judge_result(const IntersectionCounts& written, const std::vector<QualityStats>& quality,
                        const QualityBounds& bounds);
 
+// One retry of an unresolved run (FixOptions::retries), in the order they ran.
+struct RetryRecord {
+  double clearance = 0.0;  // the clearance of this attempt (fraction of the mean edge length)
+  bool clean = false;
+  std::size_t crossings = 0, inside_vertices = 0;  // left by the attempt
+  int iterations = 0;
+  bool kept = false;  // its positions are the result
+};
+
 struct FixResult {
   // No crossing and no movable vertex inside an obstacle on the final positions.
   bool clean = false;
@@ -139,6 +154,11 @@ struct FixResult {
   int relax_sweeps = 0;
   std::size_t relaxed_vertices = 0;
   double relax_ms = 0.0;
+  // The retries of an unresolved first attempt; empty when it was clean (or cancelled). When one
+  // is kept, every other field but `before` and the times (summed over attempts) is that
+  // attempt's.
+  std::vector<RetryRecord> retries;
+  double clearance = 0.0;  // the clearance of the attempt kept
 };
 
 // Per mesh, per input vertex: 1 = pinned (never moves). Empty = nothing pinned.

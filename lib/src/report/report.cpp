@@ -142,12 +142,26 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   opts["clearance"] = options.clearance;
   opts["outside_closed_obstacles"] = options.outside_closed_obstacles;
   opts["relax"] = options.relax;
+  opts["retries"] = options.retries;
   opts["max_stretch"] = bounds.max_stretch;
   opts["max_flips"] = bounds.max_flips;
   opts["max_move"] = bounds.max_move;
   j["options"] = opts;
   j["iterations"] = result.iterations;
   j["stalled"] = result.stalled;
+  j["clearance"] = result.clearance;
+  Json retries = Json::array();
+  for (const RetryRecord& r : result.retries) {
+    Json e;
+    e["clearance"] = r.clearance;
+    e["clean"] = r.clean;
+    e["crossings"] = r.crossings;
+    e["inside_vertices"] = r.inside_vertices;
+    e["iterations"] = r.iterations;
+    e["kept"] = r.kept;
+    retries.push_back(e);
+  }
+  j["retries"] = retries;
   j["before"] = counts_json(result.before);
   j["after"] = counts_json(verified.counts);
   Json history = Json::array();
