@@ -359,8 +359,9 @@ TEST(Batch, EmittedScriptsGiveTheSummaryOfALocalRun) {
   for (int k = 0; k < 3; ++k) {
     const std::string task = "SLURM_ARRAY_TASK_ID=" + std::to_string(k) + " bash " +
                              quote((slurm / "batch.sbatch").string()) + " >/dev/null 2>&1";
-    const int status = std::system(task.c_str());  // the job's exit code: 6, distorted
-    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 6) << k << ": " << status;
+    // A task that ran its job to a verdict (distorted here) succeeded; the summary says how.
+    const int status = std::system(task.c_str());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << k << ": " << status;
   }
   // The gather exits with the batch's code: 6, every job distorted.
   ASSERT_EQ(WEXITSTATUS(std::system(("bash " + quote((slurm / "gather.sbatch").string())).c_str())), 6);
@@ -376,7 +377,7 @@ TEST(Batch, EmittedScriptsGiveTheSummaryOfALocalRun) {
   EXPECT_EQ(count(lines, "\n"), 3u);
   std::size_t start = 0;
   for (std::size_t end = lines.find('\n'); end != std::string::npos; start = end + 1, end = lines.find('\n', start))
-    EXPECT_EQ(WEXITSTATUS(std::system(lines.substr(start, end - start).c_str())), 6);
+    EXPECT_EQ(WEXITSTATUS(std::system(lines.substr(start, end - start).c_str())), 0);
   const std::string gather = run.substr(run.find("exec ") + 5);
   ASSERT_EQ(WEXITSTATUS(std::system(gather.c_str())), 6);
   EXPECT_EQ(without_times(summary_of(par)), without_times(summary_of(local)));
