@@ -257,7 +257,7 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& o, const std::string& f
   cmd->add_option("--partition", o.partition, "--emit slurm: the partition to submit to (none: the cluster's default)")
       ->option_text("NAME");
   cmd->add_option("--only-job", o.only_job,
-                  "Run only this job (its index in id order, from 0, or its id) and write its record, not the summary")
+                  "Run only this job (its index in id order, from 0, or its id) and write its record, not the summary; exit 0 unless the job failed")
       ->option_text("K|ID");
   cmd->add_flag("--gather", o.gather, "Run nothing: merge the jobs' records into the summary");
   cmd->add_flag("-q,--quiet", o.quiet, "Print nothing but errors");
@@ -376,7 +376,14 @@ int run_batch(const BatchOptions& o) {
     const std::vector<JobRecord> done = run_jobs(jobs, prepared, this_binary(), o, parallel,
                                                  [&](const JobRecord& r) { progress.done(r); });
     for (std::size_t i = 0; i < done.size(); ++i) records[slot[i]] = done[i];
-    if (!o.only_job.empty()) return records[selected[0]].exit_code;
+    // A task of an emitted script (Slurm's array, GNU parallel) that ran its job and wrote its
+    // record succeeded, whatever the job's verdict: sacct and the joblog list as failed exactly
+    // the jobs the summary lists as failed (crash, time limit, unreadable input, ...), and the
+    // gathered summary's exit code carries the verdicts (man page, BATCH, Scale-out).
+    if (!o.only_job.empty()) {
+      const JobRecord& r = records[selected[0]];
+      return r.status == "failed" ? r.exit_code : 0;
+    }
   }
 
   const BatchSummary s = make_summary(o, plan, records);

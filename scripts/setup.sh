@@ -24,6 +24,7 @@ packages=(
   libcgal-demo        # the cow mesh (data/meshes/cow.off) used by tests and benchmarks
   assimp-testmodels   # real files in many formats for robustness tests
   groff-base          # renders the man page in its test
+  parallel            # GNU parallel: runs `batch --emit parallel`'s script in its test
 )
 # The tests behind flags (README, "Tests behind flags") need more, installed only with their flag.
 if [[ "${UNTANGLE_WITH_SLURM:-0}" == "1" || "${UNTANGLE_SLURM_TEST:-0}" == "1" ]]; then

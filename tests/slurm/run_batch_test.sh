@@ -26,8 +26,9 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 work="$(mktemp -d /tmp/untangle-slurm-batch.XXXXXX)"
 trap 'rm -rf "$work"' EXIT
 
-# Jobs that end clean (generated scenes end distorted under fix's default quality bounds, and a
-# task that exits non-zero counts as failed to sbatch --wait).
+# Jobs that end clean: the shipped MakeHuman garment on its body. (A task whose job ends distorted
+# or unresolved exits 0 as well, man page BATCH, Scale-out; only a failed job fails its task, which
+# sbatch --wait would report.)
 data="$here/../../testdata/makehuman"
 mkdir "$work/in" "$work/local" "$work/slurm"
 for k in 0 1 2 3; do

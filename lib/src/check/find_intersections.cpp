@@ -1,12 +1,16 @@
 // find_intersections: topology, detection, contours, counts (the `check` pipeline).
 #include "untangle/intersections.h"
 
+#include <algorithm>
 #include <chrono>
+#include <numeric>
+#include <tuple>
 
 #include "check/summarize.h"
 #include "contour/build_contours.h"
 #include "detect/detect_crossings.h"
 #include "detect/run_parallel.h"
+#include "resolve/canonical_order.h"
 #include "resolve/inside_vertices.h"
 #include "topology/describe_mesh.h"
 #include "topology/scene_topology.h"
@@ -23,10 +27,65 @@ const char* to_string(TrackType type) {
   return "?";
 }
 
-Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOptions& options,
+namespace {
+
+// The result of a detection on canonical numberings, in the input's vertex and triangle indices:
+// crossings sorted again by them (contours keep pointing at the same crossings), pairs likewise.
+void to_input_indices(const std::vector<CanonicalMesh>& canon, Intersections& result) {
+  const std::size_t n = result.crossings.size();
+  for (Crossing& c : result.crossings) {
+    const auto& vertices = canon[c.edge_mesh].vertex_order;
+    c.edge_v0 = vertices[c.edge_v0];
+    c.edge_v1 = vertices[c.edge_v1];
+    if (c.edge_v1 < c.edge_v0) std::swap(c.edge_v0, c.edge_v1);
+    c.face = canon[c.face_mesh].triangle_order[c.face];
+  }
+  auto key = [](const Crossing& c) {
+    return std::make_tuple(c.edge_mesh, c.edge_v0, c.edge_v1, c.face_mesh, c.face);
+  };
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return key(result.crossings[a]) < key(result.crossings[b]);
+  });
+  std::vector<std::uint32_t> position(n);
+  std::vector<Crossing> sorted;
+  sorted.reserve(n);
+  for (std::uint32_t k = 0; k < n; ++k) {
+    position[order[k]] = k;
+    sorted.push_back(result.crossings[order[k]]);
+  }
+  result.crossings = std::move(sorted);
+  for (Contour& contour : result.contours)
+    for (std::uint32_t& c : contour.crossings) c = position[c];
+  for (auto& p : result.triangle_pairs) {
+    p[1] = canon[p[0]].triangle_order[p[1]];
+    p[3] = canon[p[2]].triangle_order[p[3]];
+    if (std::make_pair(p[2], p[3]) < std::make_pair(p[0], p[1])) {
+      std::swap(p[0], p[2]);
+      std::swap(p[1], p[3]);
+    }
+  }
+  std::sort(result.triangle_pairs.begin(), result.triangle_pairs.end());
+}
+
+}  // namespace
+
+// Detection runs on a canonical numbering of every mesh, as the repair does (canonical_order.h):
+// the symbolic perturbation resolves exact degeneracies by vertex ids, so `check`, `fix`'s
+// `before` and its verdict on the written files decide them alike, whatever the file's order.
+Intersections find_intersections(const std::vector<Mesh>& input, const DetectOptions& options,
                                  DetectTimings* timings, std::vector<MeshInfo>* infos) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
+  std::vector<CanonicalMesh> canon;
+  canon.reserve(input.size());
+  std::vector<Mesh> meshes;
+  meshes.reserve(input.size());
+  for (const Mesh& m : input) {
+    canon.push_back(canonical(m));
+    meshes.push_back(std::move(canon.back().mesh));
+  }
   const SceneTopology topo = build_topology(meshes);
   if (infos != nullptr) {
     infos->clear();
@@ -54,6 +113,7 @@ Intersections find_intersections(const std::vector<Mesh>& meshes, const DetectOp
     }
   });
   add_contours(traced, result, options.separation);
+  to_input_indices(canon, result);
   // Movable vertices inside the obstacles, on the positions as given (the verdict of `fix` is
   // taken on the files written and read back).
   std::vector<Role> role;

@@ -171,7 +171,8 @@ void write_with_assimp(const std::string& input, const std::string& output,
   if (scene == nullptr || scene->mRootNode == nullptr) fail(output, "cannot re-read " + input);
   std::vector<std::pair<unsigned, aiMatrix4x4>> instances;
   collect_nodes(*scene->mRootNode, aiMatrix4x4(), instances);
-  if (extension_of(input) == "gltf" && extension_of(output) == "gltf") {
+  const std::string in_ext = extension_of(input), out_ext = extension_of(output);
+  if ((in_ext == "gltf" || in_ext == "glb") && in_ext == out_ext) {
     // The instances read_meshes returns: those with triangles.
     std::vector<MeshInstance> placed;
     for (const auto& [index, world] : instances) {
@@ -264,7 +265,7 @@ std::string export_loss(const std::string& input, const std::string& output) {
   const std::string in = extension_of(input), out = extension_of(output);
   if (in == "obj" && out == "obj") return "";
   if (in == "off" && out == "off") return "";
-  if (in == "gltf" && out == "gltf" && can_patch_gltf(input)) return "";
+  if ((in == "gltf" || in == "glb") && in == out && can_patch_gltf(input)) return "";
   // Checked as the reader checks it: a hostile file is refused (exit 3) before assimp sizes its
   // allocations by what the file claims.
   std::error_code ec;

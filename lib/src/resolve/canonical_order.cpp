@@ -32,7 +32,8 @@ CanonicalMesh canonical(const Mesh& input) {
     std::rotate(tri.begin(), tri.begin() + first, tri.end());
     rotated[t] = tri;
   }
-  std::vector<std::uint32_t> tri_order(nt);
+  std::vector<std::uint32_t>& tri_order = out.triangle_order;
+  tri_order.resize(nt);
   for (std::uint32_t t = 0; t < nt; ++t) tri_order[t] = t;
   std::sort(tri_order.begin(), tri_order.end(), [&](std::uint32_t a, std::uint32_t b) {
     return rotated[a] != rotated[b] ? rotated[a] < rotated[b] : a < b;

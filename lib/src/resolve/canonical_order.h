@@ -9,7 +9,8 @@
 namespace untangle {
 
 struct CanonicalMesh {
-  std::vector<std::uint32_t> vertex_order;  // canonical index -> input index
+  std::vector<std::uint32_t> vertex_order;    // canonical index -> input index
+  std::vector<std::uint32_t> triangle_order;  // canonical triangle -> input triangle
   Mesh mesh;
 };
 
@@ -19,6 +20,9 @@ struct CanonicalMesh {
 // vertex and move together, by input index), each triangle rotated to start at its smallest
 // canonical corner (orientation kept) and triangles sorted by corners. The same geometry in any
 // vertex or face order then gives the same positions, bit for bit (tests/test_determinism.cpp).
+// Detection (`check`, fix's verdict) runs on it too: its symbolic perturbation orders points by
+// their ids, so degenerate configurations (shared positions, coplanar faces) would otherwise be
+// resolved one way in `check` and another in `fix` (tests/test_check_fix_agree.cpp).
 CanonicalMesh canonical(const Mesh& input);
 
 }  // namespace untangle

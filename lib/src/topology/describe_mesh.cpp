@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "geometry/vec3.h"
+#include "resolve/canonical_order.h"
 #include "topology/describe_mesh.h"
 #include "untangle/mesh_info.h"
 
@@ -27,7 +28,12 @@ struct UnionFind {
 
 }  // namespace
 
-MeshInfo describe_mesh(const Mesh& mesh) { return describe_mesh_in(build_topology({mesh}), 0, mesh); }
+// On the canonical numbering detection uses (find_intersections), so that `info` and `check` give
+// the same figures, sums included, whatever the order of the file.
+MeshInfo describe_mesh(const Mesh& mesh) {
+  const Mesh canon = canonical(mesh).mesh;
+  return describe_mesh_in(build_topology({canon}), 0, canon);
+}
 
 // Mesh m's welded vertices, triangles and edges are contiguous ranges of the scene's (welding is
 // per mesh, edges sorted by their lower vertex) in the order a topology of the mesh alone has

@@ -8,7 +8,8 @@
 
 namespace untangle {
 
-// What describe_mesh(mesh) gives, for mesh m of `topology` (built from a list holding `mesh` at m).
+// What describe_mesh(mesh) gives, for mesh m of `topology` (built from a list holding `mesh` at m,
+// in the canonical numbering describe_mesh uses).
 MeshInfo describe_mesh_in(const SceneTopology& topology, std::size_t m, const Mesh& mesh);
 
 }  // namespace untangle
