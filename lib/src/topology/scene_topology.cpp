@@ -216,33 +216,43 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
       topo.tri_mesh.push_back(static_cast<std::uint32_t>(m));
       topo.tri_source.push_back(t);
     }
-    // Repeats: the kept triangles of this mesh sorted by their corner set (then index); the first
-    // of each run stays.
+    // Repeats: each kept triangle of this mesh looked up by its corner set in an open-addressing
+    // table (linear in the mesh, as the welding); the first of each set stays.
     const std::uint32_t first = topo.mesh_tri_begin.back(), last = static_cast<std::uint32_t>(topo.tris.size());
-    std::vector<std::pair<std::array<std::uint32_t, 3>, std::uint32_t>> keyed;
-    keyed.reserve(last - first);
-    for (std::uint32_t t = first; t < last; ++t) {
-      std::array<std::uint32_t, 3> key = topo.tris[t];
-      std::sort(key.begin(), key.end());
-      keyed.push_back({key, t});
-    }
-    std::sort(keyed.begin(), keyed.end());
+    std::size_t capacity = 16;
+    while (capacity < 2 * static_cast<std::size_t>(last - first)) capacity *= 2;
+    std::vector<std::uint32_t> table(capacity, kNone);
     std::vector<std::uint8_t> drop(last - first, 0);
     turned.resize(last, 0);
     bool any = false;
+    auto sorted = [&](std::uint32_t t) {
+      std::array<std::uint32_t, 3> c = topo.tris[t];
+      if (c[0] > c[1]) std::swap(c[0], c[1]);
+      if (c[1] > c[2]) std::swap(c[1], c[2]);
+      if (c[0] > c[1]) std::swap(c[0], c[1]);
+      return c;
+    };
     auto winding = [&](std::uint32_t t) {  // +1 or -1: the corner order against the sorted one
       const auto& c = topo.tris[t];
       const int inversions = (c[0] > c[1]) + (c[0] > c[2]) + (c[1] > c[2]);
       return inversions % 2 == 0 ? 1 : -1;
     };
-    for (std::size_t i = 1; i < keyed.size(); ++i) {
-      std::size_t k = i - 1;
-      if (keyed[i].first != keyed[k].first) continue;
-      while (k > 0 && keyed[k - 1].first == keyed[i].first) --k;  // the run's first (kept) one
-      drop[keyed[i].second - first] = 1;
+    for (std::uint32_t t = first; t < last; ++t) {
+      const std::array<std::uint32_t, 3> key = sorted(t);
+      std::uint64_t h = (std::uint64_t{key[0]} * 0x9e3779b97f4a7c15ull) ^ (std::uint64_t{key[1]} * 0xc2b2ae3d27d4eb4full) ^
+                        (std::uint64_t{key[2]} * 0x165667b19e3779f9ull);
+      h ^= h >> 31;
+      std::size_t slot = static_cast<std::size_t>(h) & (capacity - 1);
+      while (table[slot] != kNone && sorted(table[slot]) != key) slot = (slot + 1) & (capacity - 1);
+      if (table[slot] == kNone) {
+        table[slot] = t;
+        continue;
+      }
+      const std::uint32_t kept = table[slot];
+      drop[t - first] = 1;
       any = true;
-      if (winding(keyed[i].second) != winding(keyed[k].second)) {
-        turned[keyed[k].second] = 1;
+      if (winding(t) != winding(kept)) {
+        turned[kept] = 1;
         any_turned = true;
       }
     }
