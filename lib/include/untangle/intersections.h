@@ -58,16 +58,17 @@ struct Contour {
 
 // Exact contact between two meshes, or within one (DESIGN §2, "Contact is not penetration"):
 // coincidences decided on the coordinates as given, bit for bit, never by a tolerance. They are
-// not crossings: a position shared by two meshes is one point for detection (edges and faces
-// through it share a vertex, as within one mesh), a face repeated with either winding is left out
-// of detection, and fix pins the movable vertices at shared positions.
+// not crossings: a position that is a vertex of an obstacle and of other meshes is one point for
+// detection (edges and faces through it share a vertex, as within one mesh), a face repeated with
+// either winding is left out of detection, and fix pins the movable vertices at such positions.
+// Positions shared by movable meshes alone stay two points (fix can part them).
 struct MeshContact {
   std::uint32_t mesh_a = 0, mesh_b = 0;  // mesh_a <= mesh_b, input order; equal: within one mesh
-  // Positions that are a vertex of both meshes (garment seams sewn onto body vertices); 0 when
-  // mesh_a == mesh_b (a mesh's own equal positions are welded).
+  // Positions that are a vertex of both meshes and of an obstacle (garment seams sewn onto body
+  // vertices); 0 when mesh_a == mesh_b (a mesh's own equal positions are welded).
   std::size_t seam_vertices = 0;
   // Faces with the same three positions as another face, either winding: across the two meshes,
-  // the distinct repeated faces; within one mesh, the later copies, which detection leaves out
+  // the distinct repeated faces whose corners are all seam vertices; within one mesh, the later copies, which detection leaves out
   // (kept in the output).
   std::size_t repeated_faces = 0;
   // Triangle pairs, one of each mesh, that lie exactly in one plane and touch or overlap there

@@ -89,12 +89,11 @@ std::vector<Link> link_crossings(const SceneTopology& topo, const CrossingSet& s
   // Corners as detection sees them: a position shared across meshes is one point (DESIGN §2), so a
   // segment t ∩ f can run to it as to a vertex t and f share.
   const auto& tris = topo.detect_tris();
-  auto point = [&](std::uint32_t v) { return topo.contact_point.empty() ? v : topo.contact_point[v]; };
   for (std::uint32_t ci = 0, entry = 0; ci < n; ++ci) {
     const RawCrossing& c = set.items[ci];
     const auto& face = tris[c.face];
-    linkable[ci] = !has_vertex(face, point(topo.edges[c.edge][0])) &&
-                   !has_vertex(face, point(topo.edges[c.edge][1]));
+    linkable[ci] = !has_vertex(face, topo.detect_point(topo.edges[c.edge][0])) &&
+                   !has_vertex(face, topo.detect_point(topo.edges[c.edge][1]));
     for (std::uint32_t i = topo.edge_face_begin[c.edge]; i < topo.edge_face_begin[c.edge + 1]; ++i)
       slot[entry++] = table.add(ci, topo.edge_faces[i], c.face);
   }

@@ -61,13 +61,17 @@ void orient_turned(SceneTopology& topo, std::vector<std::uint8_t>& turned) {
 // Positions shared by welded vertices of different meshes (hashed by their coordinates' bits, as
 // the welding; -0.0 and 0.0 are one position), the contact map, and the seam vertices and repeated
 // faces per pair of meshes.
-void find_contacts(SceneTopology& topo) {
+void find_contacts(SceneTopology& topo, const std::vector<Mesh>& meshes) {
   const std::size_t nv = topo.points.size();
+  // Only an obstacle's vertex makes a shared position contact: a movable vertex on it is sewn to
+  // what never moves. Where movable meshes alone share a position (two garments through each
+  // other at a vertex of both, common in grid-snapped scenes), fix can still part them, so they
+  // stay two points.
+  auto obstacle = [&](std::uint32_t v) { return meshes[topo.vertex_mesh[v]].role == Role::kObstacle; };
   std::size_t capacity = 16;
   while (capacity < 2 * nv) capacity *= 2;
   std::vector<std::uint32_t> table(capacity, kNone);
-  std::vector<std::uint32_t> leader;
-  for (std::uint32_t v = 0; v < nv; ++v) {
+  auto slot_of = [&](std::uint32_t v) {
     std::uint64_t h = 1469598103934665603ull;
     for (double c : topo.points[v]) {
       const double normal = c + 0.0;
@@ -78,15 +82,36 @@ void find_contacts(SceneTopology& topo) {
     }
     std::size_t slot = static_cast<std::size_t>(h) & (capacity - 1);
     while (table[slot] != kNone && topo.points[table[slot]] != topo.points[v]) slot = (slot + 1) & (capacity - 1);
-    if (table[slot] == kNone) {
-      table[slot] = v;
-      continue;
-    }
+    return slot;
+  };
+  // Each position holds its first vertex until an obstacle's comes: then the lowest obstacle
+  // vertex there, the point every other vertex there is mapped to. Movable vertices that met only
+  // movable ones there wait in `pending`.
+  std::vector<std::uint32_t> leader, pending;
+  auto map_to = [&](std::uint32_t v, std::uint32_t to) {
     if (leader.empty()) {  // the first shared position: from now on every vertex gets its leader
       leader.resize(nv);
       std::iota(leader.begin(), leader.end(), 0u);
     }
-    leader[v] = table[slot];  // the lowest id there; of another mesh (a mesh's own are welded)
+    leader[v] = to;  // of another mesh (a mesh's own equal positions are welded)
+  };
+  for (std::uint32_t v = 0; v < nv; ++v) {
+    const std::size_t slot = slot_of(v);
+    const std::uint32_t there = table[slot];
+    if (there == kNone) {
+      table[slot] = v;
+    } else if (obstacle(there)) {
+      map_to(v, there);
+    } else if (obstacle(v)) {
+      pending.push_back(there);
+      table[slot] = v;
+    } else {
+      pending.push_back(v);
+    }
+  }
+  for (std::uint32_t v : pending) {
+    const std::uint32_t there = table[slot_of(v)];
+    if (there != v && obstacle(there)) map_to(v, there);
   }
   if (leader.empty()) return;
   topo.contact_point = leader;
@@ -363,7 +388,7 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
     }
     topo.vertex_component[v] = number[root];
   }
-  find_contacts(topo);
+  find_contacts(topo, meshes);
   for (std::uint32_t m = 0; m < mesh_count; ++m) {
     if (topo.repeated[m] == 0) continue;
     MeshContact c;

@@ -37,9 +37,9 @@ struct SceneTopology {
   std::vector<std::size_t> degenerate;        // per mesh: dropped triangles
   std::vector<std::size_t> repeated;          // per mesh: dropped exact repeats of a kept triangle
 
-  // Exact contact across meshes (DESIGN §2). Welded vertices of different meshes at the same
-  // position (bit for bit) are one point for detection: `contact_tris` are `tris` with each such
-  // corner replaced by `contact_point` of it, the lowest welded id at that position. Detection,
+  // Exact contact across meshes (DESIGN §2). Welded vertices of different meshes at the position
+  // (bit for bit) of an obstacle's vertex are one point for detection: `contact_tris` are `tris` with each such
+  // corner replaced by `contact_point` of it, the lowest obstacle vertex at that position. Detection,
   // contours and measured moves read `detect_tris()`, so that triangles meeting at a shared
   // position share a vertex (and two shared corners are a shared edge). `seam` flags the welded
   // vertices at a shared position. All three are empty when no position is shared. Decided on
@@ -54,6 +54,8 @@ struct SceneTopology {
   const std::vector<std::array<std::uint32_t, 3>>& detect_tris() const {
     return contact_tris.empty() ? tris : contact_tris;
   }
+  // The point detection sees at welded vertex v (its contact_point, or v).
+  std::uint32_t detect_point(std::uint32_t v) const { return contact_point.empty() ? v : contact_point[v]; }
 
   // edges (v0 < v1), sorted; incident kept triangles in CSR form, ascending
   std::vector<std::array<std::uint32_t, 2>> edges;
