@@ -17,6 +17,19 @@ std::uint32_t SceneTopology::find_edge(std::uint32_t a, std::uint32_t b) const {
 
 namespace {
 
+// A hash of a position's coordinate bits (-0.0 and 0.0 alike, as they compare equal).
+std::uint64_t position_hash(const Vec3& p) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (double c : p) {
+    const double normal = c + 0.0;  // -0.0 -> 0.0
+    std::uint64_t bits;
+    std::memcpy(&bits, &normal, sizeof bits);
+    h = (h ^ bits) * 1099511628211ull;
+    h ^= h >> 29;
+  }
+  return h;
+}
+
 // The kept triangles flagged `turned` (a repeat of theirs ran the other way, so the file does not
 // say which winding is meant) take the winding of their neighbours: a search across edges from
 // every other triangle, in index order, turns each one reached so that the edge it is reached
@@ -72,14 +85,7 @@ void find_contacts(SceneTopology& topo, const std::vector<Mesh>& meshes) {
   while (capacity < 2 * nv) capacity *= 2;
   std::vector<std::uint32_t> table(capacity, kNone);
   auto slot_of = [&](std::uint32_t v) {
-    std::uint64_t h = 1469598103934665603ull;
-    for (double c : topo.points[v]) {
-      const double normal = c + 0.0;
-      std::uint64_t bits;
-      std::memcpy(&bits, &normal, sizeof bits);
-      h = (h ^ bits) * 1099511628211ull;
-      h ^= h >> 29;
-    }
+    const std::uint64_t h = position_hash(topo.points[v]);
     std::size_t slot = static_cast<std::size_t>(h) & (capacity - 1);
     while (table[slot] != kNone && topo.points[table[slot]] != topo.points[v]) slot = (slot + 1) & (capacity - 1);
     return slot;
@@ -182,14 +188,7 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
     std::vector<std::uint32_t> table(capacity, kNone);
     std::vector<std::uint32_t> leader(pos.size());
     for (std::uint32_t v = 0; v < pos.size(); ++v) {
-      std::uint64_t h = 1469598103934665603ull;
-      for (double c : pos[v]) {
-        const double normal = c + 0.0;  // -0.0 -> 0.0
-        std::uint64_t bits;
-        std::memcpy(&bits, &normal, sizeof bits);
-        h = (h ^ bits) * 1099511628211ull;
-        h ^= h >> 29;
-      }
+      const std::uint64_t h = position_hash(pos[v]);
       std::size_t slot = static_cast<std::size_t>(h) & (capacity - 1);
       for (;;) {
         if (table[slot] == kNone) {
