@@ -146,6 +146,20 @@ int run_info(const CommonOptions& o) {
   return 0;
 }
 
+// The summary line of exact contacts (DESIGN §2), when there are any.
+void print_contacts(const untangle::IntersectionCounts& c) {
+  std::size_t seams = 0, repeated = 0, coplanar = 0;
+  for (const untangle::MeshContact& m : c.contacts) {
+    seams += m.seam_vertices;
+    repeated += m.repeated_faces;
+    coplanar += m.coplanar_pairs;
+  }
+  if (seams + repeated + coplanar == 0) return;
+  std::printf("contacts (not crossings): %zu seam vertices, %zu repeated faces, %zu coplanar "
+              "triangle pairs, between %zu pairs of meshes\n",
+              seams, repeated, coplanar, c.contacts.size());
+}
+
 int run_check(const CommonOptions& o) {
   untangle::app::check_written_files(o, {});
   const auto start = std::chrono::steady_clock::now();
@@ -180,6 +194,7 @@ int run_check(const CommonOptions& o) {
                 c.crossings, c.triangle_pairs, c.contours, c.contour_length);
     if (c.inside_vertices > 0)
       std::printf("vertices inside obstacles %zu (winding number > 1/2)\n", c.inside_vertices);
+    print_contacts(c);
     if (c.contours > 0) {
       std::printf("pairs: CL/CL %zu, BB/II %zu, BI/BI %zu, self %zu, other %zu; "
                   "loop vertices %zu, non-separating tracks %zu\n",
@@ -238,6 +253,7 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
                   r.iterations, r.kept ? " (kept)" : "");
     }
     for (std::size_t k = 0; k < outputs.size(); ++k) std::printf("wrote %s\n", outputs[k].c_str());
+    print_contacts(verified.counts);
     if (result.obstacle_crossing_pairs > 0) {
       std::printf("obstacles: %zu triangle pairs of closed obstacles cross (themselves or each "
                   "other), left as they are\n",

@@ -550,6 +550,61 @@ std::vector<std::pair<std::string, std::string>> garment_body_pairs(const std::s
   return pairs;
 }
 
+Scene sewn_garment(bool dent, bool repeated) {
+  constexpr double kRadius = 0.5, kLength = 2.0;
+  constexpr int kSlices = 24, kRings = 9;
+  // The body's cylinder ring i lies at z = length * (0.5 - i / (rings - 1)) (capsule); rings 2
+  // and 6 are the seams, computed by the same expression so that the positions agree bit for bit.
+  auto ring_z = [](int i) { return kLength * (0.5 - static_cast<double>(i) / (kRings - 1)); };
+  Scene scene;
+  scene.name = std::string("sewn_garment") + (dent ? "_dent" : "") + (repeated ? "_repeated" : "");
+  scene.obstacles.push_back(obstacle(capsule({0, 0, 0}, kRadius, kLength, kSlices, kRings, "body")));
+  std::vector<std::pair<double, double>> profile{{kRadius, ring_z(2)}};
+  constexpr int kInner = 9;  // rings between the seams, 0.1 apart
+  for (int k = 1; k <= kInner; ++k) profile.emplace_back(0.58, ring_z(2) - 0.1 * k);
+  profile.emplace_back(kRadius, ring_z(6));
+  Mesh garment = revolve({0, 0, 0}, profile, kSlices, "garment");
+  if (dent) {
+    const std::size_t middle = static_cast<std::size_t>(kSlices) * 5;  // ring 5, z = 0
+    for (std::size_t j = 0; j < 4; ++j) {
+      Vec3& p = garment.positions[middle + j];
+      p = {p[0] * 0.46 / 0.58, p[1] * 0.46 / 0.58, p[2]};
+    }
+  }
+  scene.movable.push_back(std::move(garment));
+  if (repeated) {
+    for (std::vector<Mesh>* list : {&scene.movable, &scene.obstacles}) {
+      for (Mesh& mesh : *list) {
+        const std::size_t n = mesh.triangles.size();
+        for (std::size_t t = 0; t < n; ++t) {
+          const Triangle tri = mesh.triangles[t];
+          mesh.triangles.push_back({tri[0], tri[2], tri[1]});
+        }
+        mesh = finish(std::move(mesh));
+      }
+    }
+  }
+  return scene;
+}
+
+Scene rotated_scene(Scene scene, Vec3 angles) {
+  for (std::vector<Mesh>* list : {&scene.movable, &scene.obstacles}) {
+    for (Mesh& mesh : *list) {
+      for (Vec3& p : mesh.positions) {
+        for (int axis = 0; axis < 3; ++axis) {
+          const double c = std::cos(angles[axis]), s = std::sin(angles[axis]);
+          const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+          const double pu = p[u], pv = p[v];
+          p[u] = c * pu - s * pv;
+          p[v] = s * pu + c * pv;
+        }
+      }
+    }
+  }
+  scene.name += "_rotated";
+  return scene;
+}
+
 void write_obj(const Mesh& mesh, const std::string& path) {
   std::FILE* file = std::fopen(path.c_str(), "wb");
   if (file == nullptr) throw Error(ExitCode::kOutputNotWritten, path, "cannot open for writing");

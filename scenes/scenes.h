@@ -98,6 +98,18 @@ std::vector<std::pair<std::string, std::string>> garment_body_pairs_in(
 // the cow.
 Scene sheet_through_capsule(int n);
 
+// A garment sewn to its body (contact, DESIGN §2): the body a closed capsule (radius 0.5,
+// cylinder length 2, 24 slices, 9 rings; obstacle), the garment an open band around it whose top
+// and bottom rings are the body's rings at z = 0.5 and z = -0.5, bit for bit the same positions
+// (48 seam vertices), bulging out to radius 0.58 between them. `dent`: four vertices of the
+// garment's middle ring pushed in to radius 0.46, inside the body (penetration away from the
+// seams). `repeated`: every face of both meshes repeated with the opposite winding, after all
+// the others (double-sided export).
+Scene sewn_garment(bool dent, bool repeated);
+// The scene's meshes rotated about the x, y and z axes in turn by `angles` (radians), about the
+// origin: equal positions stay equal bit for bit.
+Scene rotated_scene(Scene scene, Vec3 angles);
+
 // The named scenes above except the cow and sheet_through_capsule, in the order listed (what testdata/ holds).
 std::vector<Scene> named_scenes();
 

@@ -103,26 +103,33 @@ bool has(const std::array<std::uint32_t, 3>& tri, std::uint32_t v) {
 TEST(DetectProperty, ZeroOrTwoCrossingsAndContoursCloseOnGridScenes) {
   std::mt19937 rng(20261121);
   std::size_t total_crossings = 0, total_contours = 0;
+  std::size_t total_contact_points = 0;
   for (int round = 0; round < 3000; ++round) {
-    const std::vector<Mesh> meshes = random_scene(rng, round);
+    std::vector<Mesh> meshes = random_scene(rng, round);
+    // Every other round the last mesh is an obstacle: its grid-snapped positions that other meshes
+    // share are contact points (DESIGN §2), one point of both, and the property must hold for them.
+    if (round % 2 == 1 && meshes.size() > 1) meshes.back().role = Role::kObstacle;
     const SceneTopology topo = build_topology(meshes);
+    for (std::size_t v = 0; v < topo.contact_point.size(); ++v) total_contact_points += topo.contact_point[v] != v;
 
-    // Brute force: every edge against every triangle sharing no vertex with it.
+    // Brute force: every edge against every triangle sharing no vertex with it; a position shared
+    // by two meshes is one point (DESIGN §2, contact), as detection sees it.
+    const auto& tris = topo.detect_tris();
     std::set<std::pair<std::uint32_t, std::uint32_t>> brute;
     for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
+      const std::uint32_t p = topo.detect_point(topo.edges[e][0]), q = topo.detect_point(topo.edges[e][1]);
       for (std::uint32_t f = 0; f < topo.tris.size(); ++f) {
-        const auto& tri = topo.tris[f];
-        if (has(tri, topo.edges[e][0]) || has(tri, topo.edges[e][1])) continue;
-        if (edge_crosses_triangle(topo.points, topo.edges[e][0], topo.edges[e][1], tri[0], tri[1],
-                                  tri[2]))
-          brute.insert({e, f});
+        const auto& tri = tris[f];
+        if (has(tri, p) || has(tri, q)) continue;
+        if (edge_crosses_triangle(topo.points, p, q, tri[0], tri[1], tri[2])) brute.insert({e, f});
       }
     }
-    // Per triangle pair: 0 or 2 crossings when no vertex is shared, 0 or 1 when one is.
+    // Per triangle pair: 0 or 2 crossings when no vertex (or shared point) is shared, 0 or 1 when
+    // one is.
     for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
       for (std::uint32_t f = t + 1; f < topo.tris.size(); ++f) {
         int shared = 0;
-        for (std::uint32_t v : topo.tris[t]) shared += has(topo.tris[f], v) ? 1 : 0;
+        for (std::uint32_t v : tris[t]) shared += has(tris[f], v) ? 1 : 0;
         if (shared >= 2) continue;
         int count = 0;
         for (std::uint32_t e : topo.tri_edges[t]) count += brute.count({e, f}) ? 1 : 0;
@@ -158,6 +165,7 @@ TEST(DetectProperty, ZeroOrTwoCrossingsAndContoursCloseOnGridScenes) {
   }
   EXPECT_GT(total_crossings, 1000u);
   EXPECT_GT(total_contours, 500u);
+  EXPECT_GT(total_contact_points, 1000u) << "the obstacle rounds must share positions";
 }
 
 // A closed mesh and its exact copy: every coincident pair is decided the same consistent way.
@@ -250,12 +258,12 @@ TEST(DetectProperty, BetweenMeshesOnlyKeepsEveryNearTriangle) {
       }
     }
     for (std::uint32_t e = 0; e < topo.edges.size(); ++e) {
+      const std::uint32_t p = topo.detect_point(topo.edges[e][0]), q = topo.detect_point(topo.edges[e][1]);
       for (std::uint32_t f = 0; f < topo.tris.size(); ++f) {
-        const auto& tri = topo.tris[f];
+        const auto& tri = topo.detect_tris()[f];  // shared positions are one point (contact)
         if (topo.edge_mesh(e) == topo.tri_mesh[f]) continue;
-        if (has(tri, topo.edges[e][0]) || has(tri, topo.edges[e][1])) continue;
-        if (edge_crosses_triangle(topo.points, topo.edges[e][0], topo.edges[e][1], tri[0], tri[1], tri[2]))
-          brute.insert({e, f});
+        if (has(tri, p) || has(tri, q)) continue;
+        if (edge_crosses_triangle(topo.points, p, q, tri[0], tri[1], tri[2])) brute.insert({e, f});
       }
     }
     DetectSettings settings;

@@ -56,6 +56,27 @@ struct Contour {
   double length = 0.0;          // polyline length, closing segment included when closed
 };
 
+// Exact contact between two meshes, or within one (DESIGN §2, "Contact is not penetration"):
+// coincidences decided on the coordinates as given, bit for bit, never by a tolerance. They are
+// not crossings: a position that is a vertex of an obstacle and of other meshes is one point for
+// detection (edges and faces through it share a vertex, as within one mesh), a face repeated with
+// either winding is left out of detection, and fix pins the movable vertices at such positions.
+// Positions shared by movable meshes alone stay two points (fix can part them).
+struct MeshContact {
+  std::uint32_t mesh_a = 0, mesh_b = 0;  // mesh_a <= mesh_b, input order; equal: within one mesh
+  // Positions that are a vertex of both meshes and of an obstacle (garment seams sewn onto body
+  // vertices); 0 when mesh_a == mesh_b (a mesh's own equal positions are welded).
+  std::size_t seam_vertices = 0;
+  // Faces with the same three positions as another face, either winding: across the two meshes,
+  // the distinct repeated faces whose corners are all seam vertices; within one mesh, the later copies, which detection leaves out
+  // (kept in the output).
+  std::size_t repeated_faces = 0;
+  // Triangle pairs, one of each mesh, that lie exactly in one plane and touch or overlap there
+  // (sharing at most one position). Counted, and decided by the symbolic perturbation like every
+  // other exact zero (DESIGN §2: leaving them out would break the 0-or-2 property).
+  std::size_t coplanar_pairs = 0;
+};
+
 // Counts of one detection (the report's `before` / `after` objects).
 struct IntersectionCounts {
   std::size_t crossings = 0;
@@ -76,6 +97,8 @@ struct IntersectionCounts {
   // mesh, in input order (0 for obstacles); all 0 in a scene without obstacles.
   std::size_t inside_vertices = 0;
   std::vector<std::size_t> inside_by_mesh;
+  // Exact contacts, one entry per pair of meshes that has any, sorted by (mesh_a, mesh_b).
+  std::vector<MeshContact> contacts;
 };
 
 struct Intersections {

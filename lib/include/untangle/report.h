@@ -16,7 +16,9 @@ namespace untangle {
 // only with no vertex inside an obstacle.
 // 4: the fix status `distorted`, quality measured on the files written (with max_stretch,
 // max_displacement_over_diagonal, within_bounds), the bounds and relax among the options, relax.
-inline constexpr int kReportSchemaVersion = 4;
+// 5: `contacts` in every counts object (exact contact per pair of meshes: seam_vertices,
+// repeated_faces, coplanar_pairs), and repeated faces left out of detection.
+inline constexpr int kReportSchemaVersion = 5;
 
 struct CheckTimingsMs {
   double load = 0.0, detect = 0.0, contours = 0.0, total = 0.0;

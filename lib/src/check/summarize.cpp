@@ -43,7 +43,30 @@ Intersections summarize_crossings(const SceneTopology& topo, const CrossingSet& 
 
   result.counts.crossings = result.crossings.size();
   result.counts.triangle_pairs = result.triangle_pairs.size();
+  result.counts.contacts = contacts_of(topo, set);
   return result;
+}
+
+std::vector<MeshContact> contacts_of(const SceneTopology& topo, const CrossingSet& set) {
+  std::vector<MeshContact> contacts = topo.contacts;
+  for (const auto& pair : set.coplanar_pairs) {
+    const std::uint32_t a = std::min(topo.tri_mesh[pair[0]], topo.tri_mesh[pair[1]]);
+    const std::uint32_t b = std::max(topo.tri_mesh[pair[0]], topo.tri_mesh[pair[1]]);
+    auto it = std::find_if(contacts.begin(), contacts.end(),
+                           [&](const MeshContact& c) { return c.mesh_a == a && c.mesh_b == b; });
+    if (it == contacts.end()) {
+      MeshContact c;
+      c.mesh_a = a;
+      c.mesh_b = b;
+      contacts.push_back(c);
+      it = contacts.end() - 1;
+    }
+    ++it->coplanar_pairs;
+  }
+  std::sort(contacts.begin(), contacts.end(), [](const MeshContact& x, const MeshContact& y) {
+    return x.mesh_a != y.mesh_a ? x.mesh_a < y.mesh_a : x.mesh_b < y.mesh_b;
+  });
+  return contacts;
 }
 
 void add_contours(const std::vector<TracedContour>& traced, Intersections& result,

@@ -20,4 +20,8 @@ Intersections summarize_crossings(const SceneTopology& topology, const CrossingS
 void add_contours(const std::vector<TracedContour>& contours, Intersections& result,
                   bool separation = true);
 
+// The exact contacts of a scene (DESIGN §2): the topology's seam vertices and repeated faces with
+// the coplanar pairs detection met, per pair of meshes, sorted.
+std::vector<MeshContact> contacts_of(const SceneTopology& topology, const CrossingSet& crossings);
+
 }  // namespace untangle

@@ -86,11 +86,14 @@ std::vector<Link> link_crossings(const SceneTopology& topo, const CrossingSet& s
   PairTable table(entries);
   std::vector<std::uint32_t> slot(entries);  // per entry, in the order entered
   std::vector<std::uint8_t> linkable(n);
+  // Corners as detection sees them: a position shared across meshes is one point (DESIGN §2), so a
+  // segment t ∩ f can run to it as to a vertex t and f share.
+  const auto& tris = topo.detect_tris();
   for (std::uint32_t ci = 0, entry = 0; ci < n; ++ci) {
     const RawCrossing& c = set.items[ci];
-    const auto& face = topo.tris[c.face];
-    linkable[ci] =
-        !has_vertex(face, topo.edges[c.edge][0]) && !has_vertex(face, topo.edges[c.edge][1]);
+    const auto& face = tris[c.face];
+    linkable[ci] = !has_vertex(face, topo.detect_point(topo.edges[c.edge][0])) &&
+                   !has_vertex(face, topo.detect_point(topo.edges[c.edge][1]));
     for (std::uint32_t i = topo.edge_face_begin[c.edge]; i < topo.edge_face_begin[c.edge + 1]; ++i)
       slot[entry++] = table.add(ci, topo.edge_faces[i], c.face);
   }
@@ -120,7 +123,7 @@ std::vector<Link> link_crossings(const SceneTopology& topo, const CrossingSet& s
         link.target = kNone;
       }
       if (found == 0) {
-        const auto &tt = topo.tris[t], &ff = topo.tris[f];
+        const auto &tt = tris[t], &ff = tris[f];
         for (std::uint32_t v : tt) {
           if (has_vertex(ff, v)) {  // t ∩ f runs from the crossing to the shared vertex
             link.kind = LinkKind::kLoop;

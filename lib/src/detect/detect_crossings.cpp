@@ -42,8 +42,8 @@ bool line_through_triangle(const std::vector<Vec3>& points, std::uint32_t p, std
 // (surely_apart), else 0; a zero is decided by the perturbation.
 void test_owned_edges(const SceneTopology& topo, std::uint32_t t, std::uint32_t f,
                       const std::array<int, 3>& side, std::vector<RawCrossing>& out) {
-  const auto& tri = topo.tris[t];
-  const auto& face = topo.tris[f];
+  const auto& tri = topo.detect_tris()[t];
+  const auto& face = topo.detect_tris()[f];
   auto side_of = [&](int k) {
     return side[k] != 0 ? side[k] : orient_sos(topo.points, face[0], face[1], face[2], tri[k]);
   };
@@ -163,6 +163,7 @@ std::vector<std::uint8_t> flat_fans(const SceneTopology& topo, const TriPlane* p
 // The exact sides found on the way are kept in `sides` for the edge tests (0 where not known).
 struct PairSides {
   std::array<int, 3> of_t{}, of_u{};  // t's corners against u's plane, u's against t's
+  bool coplanar = false;  // the two lie exactly in one plane (and no line separates them)
 };
 
 bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3>& a,
@@ -201,6 +202,7 @@ bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t,
   // from b's side can only find zeros.
   if (!coplanar_b && one_side(b, plane_b, a, coplanar_a, sides.of_t)) return true;
   if (!coplanar_b) return false;
+  sides.coplanar = true;
   // Coplanar: project along the dominant axis of t's normal (skip degenerate projections).
   const int drop = plane_a.drop;
   const int turn_a = plane_a.turn;
@@ -252,7 +254,7 @@ bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t,
 }
 
 bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, PairSides& sides) {
-  const auto &a = topo.tris[t], &b = topo.tris[u];
+  const auto &a = topo.detect_tris()[t], &b = topo.detect_tris()[u];
   return surely_apart_at(topo.points, a, b, tri_plane(topo.points, a), tri_plane(topo.points, b), sides);
 }
 
@@ -396,20 +398,24 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
     for (const TriangleBvh::Part& part : descents[d].a->split(*descents[d].b, descents[d].self, kParts))
       jobs.push_back({static_cast<std::uint32_t>(d), part});
   visit.start(jobs.size());
+  // Corners as detection sees them: a position shared across meshes is one point (DESIGN §2). One
+  // mesh's own vertices never share a position, so within a mesh these are its welded corners.
+  const auto& tris = topo.detect_tris();
   run_parallel(settings.threads, jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
       const Descent& d = descents[jobs[k].descent];
       d.a->each_pair_in(*d.b, jobs[k].part, d.self, [&](std::uint32_t x, std::uint32_t y) {
         const std::uint32_t t = std::min(x, y), u = std::max(x, y);
-        const auto &a = topo.tris[t], &b = topo.tris[u];
-        std::uint32_t shared = kNone;
-        int count = 0;
-        for (std::uint32_t v : a)
-          if (v == b[0] || v == b[1] || v == b[2]) shared = v, ++count;
+        const auto &a = tris[t], &b = tris[u];
+        int shared = 0, count = 0;
+        for (int i = 0; i < 3; ++i)
+          if (a[i] == b[0] || a[i] == b[1] || a[i] == b[2]) shared = i, ++count;
         if (count >= 2) return;
-        if (count == 1 && !fan.empty() && fan[shared]) return;
+        // A flat fan is one mesh's, around its own welded vertex: across meshes it says nothing.
+        if (count == 1 && !fan.empty() && fan[topo.tris[t][shared]] && topo.tri_mesh[t] == topo.tri_mesh[u])
+          return;
         PairSides sides;
-        if (prune && surely_apart_at(topo.points, topo.tris[t], topo.tris[u], plane_of(t), plane_of(u), sides))
+        if (prune && surely_apart_at(topo.points, a, b, plane_of(t), plane_of(u), sides))
           return;
         visit(k, t, u, sides);
       });
@@ -449,13 +455,29 @@ std::vector<std::array<std::uint32_t, 2>> candidate_pairs(const SceneTopology& t
 
 CrossingSet detect_crossings(const SceneTopology& topo, const DetectSettings& settings) {
   std::vector<std::vector<RawCrossing>> found;
-  for_each_candidate(topo, settings, true,
-                     sink(found, [&topo](auto& out, std::uint32_t t, std::uint32_t u, const PairSides& sides) {
-                       test_owned_edges(topo, t, u, sides.of_t, out);
-                       test_owned_edges(topo, u, t, sides.of_u, out);
-                     }));
+  // Exactly coplanar pairs of two meshes, per part (contacts, DESIGN §2): found where the pruning
+  // test met them, so they cost nothing elsewhere.
+  std::vector<std::vector<std::array<std::uint32_t, 2>>> coplanar;
+  struct Sink {
+    const SceneTopology& topo;
+    std::vector<std::vector<RawCrossing>>& found;
+    std::vector<std::vector<std::array<std::uint32_t, 2>>>& coplanar;
+    void start(std::size_t blocks) const {
+      found.assign(blocks, {});
+      coplanar.assign(blocks, {});
+    }
+    void operator()(std::size_t block, std::uint32_t t, std::uint32_t u, const PairSides& sides) const {
+      test_owned_edges(topo, t, u, sides.of_t, found[block]);
+      test_owned_edges(topo, u, t, sides.of_u, found[block]);
+      if (sides.coplanar && topo.tri_mesh[t] != topo.tri_mesh[u]) coplanar[block].push_back({t, u});
+    }
+  };
+  for_each_candidate(topo, settings, true, Sink{topo, found, coplanar});
   CrossingSet set;
   for (auto& block : found) set.items.insert(set.items.end(), block.begin(), block.end());
+  for (auto& block : coplanar)
+    set.coplanar_pairs.insert(set.coplanar_pairs.end(), block.begin(), block.end());
+  std::sort(set.coplanar_pairs.begin(), set.coplanar_pairs.end());
   std::sort(set.items.begin(), set.items.end(), [](const RawCrossing& a, const RawCrossing& b) {
     return a.edge != b.edge ? a.edge < b.edge : a.face < b.face;
   });
@@ -540,7 +562,7 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
         for (std::uint32_t u : near) {
           // A pair of two retested triangles is tested once, from the lower one.
           if (u == t || (affected[u] && u < t)) continue;
-          if (shared_vertices(topo.tris[t], topo.tris[u]) >= 2) continue;
+          if (shared_vertices(topo.detect_tris()[t], topo.detect_tris()[u]) >= 2) continue;
           PairSides sides;
           if (surely_apart(topo, t, u, sides)) continue;
           test_owned_edges(topo, t, u, sides.of_t, found[block]);

@@ -21,6 +21,10 @@ struct RawCrossing {
 // Crossings sorted by (edge, face), unique.
 struct CrossingSet {
   std::vector<RawCrossing> items;
+  // Triangle pairs (t < u) of two different meshes lying exactly in one plane and not surely apart
+  // there (contacts, DESIGN §2), sorted; found by detect_crossings only (update_crossings leaves it
+  // empty).
+  std::vector<std::array<std::uint32_t, 2>> coplanar_pairs;
   // Index of the crossing (edge, face), or kNone.
   std::uint32_t find(std::uint32_t edge, std::uint32_t face) const;
 };

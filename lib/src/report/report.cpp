@@ -54,6 +54,16 @@ Json counts_json(const IntersectionCounts& c) {
   j["branch_points"] = c.branch_points;
   j["inside_vertices"] = c.inside_vertices;
   j["inside_by_mesh"] = c.inside_by_mesh;
+  Json contacts = Json::array();
+  for (const MeshContact& m : c.contacts) {
+    Json e;
+    e["meshes"] = {m.mesh_a, m.mesh_b};
+    e["seam_vertices"] = m.seam_vertices;
+    e["repeated_faces"] = m.repeated_faces;
+    e["coplanar_pairs"] = m.coplanar_pairs;
+    contacts.push_back(e);
+  }
+  j["contacts"] = contacts;
   return j;
 }
 

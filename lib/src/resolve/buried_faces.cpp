@@ -151,8 +151,8 @@ std::vector<std::vector<std::uint8_t>> buried_faces(const SceneTopology& topolog
   run_parallel(threads, parts.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
       bvh.each_pair_in(bvh, parts[k], true, [&](std::uint32_t t, std::uint32_t u) {
-        const auto& a = topology.tris[t];
-        const auto& b = topology.tris[u];
+        const auto& a = topology.detect_tris()[t];  // shared positions are one point (DESIGN §2)
+        const auto& b = topology.detect_tris()[u];
         if (shared_corners(a, b) >= 2 || triangles_surely_apart(topology.points, a, b)) return;
         if (!pair_crosses(topology.points, a, b)) return;
         found[k].push_back(t);

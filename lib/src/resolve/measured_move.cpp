@@ -101,9 +101,10 @@ std::size_t MeasuredMoves::crossings_of(const DetectSettings& settings,
     gave_up = found.size() > limit;
     next_check = 2 * found.size() + 8;
   };
+  const auto& tris = topo.detect_tris();  // shared positions are one point, as in detection
   auto test_edges = [&](std::uint32_t t, std::uint32_t f) {
-    const auto& tri = topo.tris[t];
-    const auto& face = topo.tris[f];
+    const auto& tri = tris[t];
+    const auto& face = tris[f];
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t p = tri[k], q = tri[(k + 1) % 3];
       if (has(face, p) || has(face, q)) continue;
@@ -113,8 +114,8 @@ std::size_t MeasuredMoves::crossings_of(const DetectSettings& settings,
   };
   auto test_pair = [&](std::uint32_t t, std::uint32_t u) {
     int shared = 0;
-    for (std::uint32_t v : topo.tris[t]) shared += has(topo.tris[u], v) ? 1 : 0;
-    if (gave_up || shared >= 2 || triangles_surely_apart(points_, topo.tris[t], topo.tris[u]))
+    for (std::uint32_t v : tris[t]) shared += has(tris[u], v) ? 1 : 0;
+    if (gave_up || shared >= 2 || triangles_surely_apart(points_, tris[t], tris[u]))
       return;
     test_edges(t, u);
     test_edges(u, t);

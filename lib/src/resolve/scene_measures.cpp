@@ -44,6 +44,10 @@ SceneMeasures measure_scene(const SceneTopology& topo, const std::vector<Mesh>& 
     for (std::size_t i = 0; i < pins[k].size() && i < topo.welded[k].size(); ++i)
       if (pins[k][i]) m.free[topo.welded[k][i]] = 0;
   }
+  // Seam vertices (a position shared with another mesh: a collar sewn onto the body) are contact,
+  // not penetration (DESIGN §2): they stay where they are, and so stay one point with the other.
+  for (std::uint32_t v = 0; v < topo.seam.size(); ++v)
+    if (topo.seam[v]) m.free[v] = 0;
   m.mean_edge.assign(meshes.size(), 0.0);
   std::vector<std::size_t> edge_count(meshes.size(), 0);
   m.vertex_edge.assign(nv, 0.0);
