@@ -132,13 +132,18 @@ void find_contacts(SceneTopology& topo, const std::vector<Mesh>& meshes) {
     if (topo.seam[v] && leader[v] == v) members.push_back({v, topo.vertex_mesh[v]});
   std::sort(members.begin(), members.end());
   std::vector<std::array<std::uint32_t, 3>> pairs;  // (a, b, kind): 0 seam position, 1 repeated face
-  for (std::size_t i = 0; i < members.size();) {
-    std::size_t j = i;
-    while (j < members.size() && members[j].first == members[i].first) ++j;
-    for (std::size_t x = i; x < j; ++x)
-      for (std::size_t y = x + 1; y < j; ++y) pairs.push_back({members[x].second, members[y].second, 0});
-    i = j;
-  }
+  // Every two meshes of one run of equal keys in `sorted` (key, mesh) pairs make a pair of `kind`.
+  auto pair_up = [&pairs](const auto& sorted, std::uint32_t kind) {
+    for (std::size_t i = 0; i < sorted.size();) {
+      std::size_t j = i;
+      while (j < sorted.size() && sorted[j].first == sorted[i].first) ++j;
+      for (std::size_t x = i; x < j; ++x)
+        for (std::size_t y = x + 1; y < j; ++y)
+          pairs.push_back({sorted[x].second, sorted[y].second, kind});
+      i = j;
+    }
+  };
+  pair_up(members, 0);
   topo.contact_tris = topo.tris;
   std::vector<std::pair<std::array<std::uint32_t, 3>, std::uint32_t>> keyed;  // (corner set, mesh)
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
@@ -151,13 +156,7 @@ void find_contacts(SceneTopology& topo, const std::vector<Mesh>& meshes) {
   }
   std::sort(keyed.begin(), keyed.end());
   keyed.erase(std::unique(keyed.begin(), keyed.end()), keyed.end());
-  for (std::size_t i = 0; i < keyed.size();) {
-    std::size_t j = i;
-    while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
-    for (std::size_t x = i; x < j; ++x)
-      for (std::size_t y = x + 1; y < j; ++y) pairs.push_back({keyed[x].second, keyed[y].second, 1});
-    i = j;
-  }
+  pair_up(keyed, 1);
   std::sort(pairs.begin(), pairs.end());
   for (const auto& p : pairs) {
     if (topo.contacts.empty() || topo.contacts.back().mesh_a != p[0] || topo.contacts.back().mesh_b != p[1]) {
