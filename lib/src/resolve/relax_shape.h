@@ -35,14 +35,15 @@ struct RelaxShapeInputs {
   int threads = 0;
 };
 
-// Relaxes topo.points in place: displacements from the input are smoothed over the moved vertices
-// and kRelaxRings rings around them (each vertex's displacement pulled halfway toward the mean of
-// its neighbours' per sweep), so that a repair's local push becomes a smooth bump and its shards
-// and flaps open again. A proposal that would bring a vertex nearer than `clearance` to an
-// obstacle (and nearer than it is) slides along the obstacle instead, or holds; one that would
-// make a crossing or put a vertex inside an obstacle is turned back, and a vertex turned back
-// kRefusals sweeps in a row stays where it is. Every sweep ends as clean as it started. `hierarchy` is refitted to the positions left;
-// `set` stays empty. `moved[v]` is set for every vertex the relaxation changed.
+// Relaxes topo.points in place: the moved vertices and kRelaxRings rings around them move toward
+// the input's shape, each sweep halfway to the as-rigid-as-possible solution (shape_solve.h) with
+// every vertex outside them, and every vertex that holds, fixed, and the obstacles near a vertex as
+// its contact plane. A proposal that would bring a vertex nearer than `clearance` to an obstacle
+// (and nearer than it is) slides along the obstacle instead, or holds; one that would make a
+// crossing or put a vertex inside an obstacle is shortened, then held, and the rest of the sweep
+// solved again around it; a vertex held kRefusals sweeps in a row stays where it is. Every sweep
+// ends as clean as it started. `hierarchy` is refitted to the positions left; `set` stays empty.
+// `moved[v]` is set for every vertex the relaxation changed.
 RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
                              SceneHierarchy& hierarchy, std::vector<std::uint32_t>& inside,
                              std::vector<std::uint8_t>& moved);
