@@ -70,6 +70,9 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   const std::vector<std::uint32_t> part = relaxing_vertices(topo, measures, in.input);
   if (part.empty()) return result;
 
+  // Distances to the obstacles' surfaces (their buried faces left out: a point near one is inside)
+  // keep the clearance. lower[i] is a lower bound of part[i]'s distance: the distance last measured
+  // less the way moved since, so that only a vertex that may have come near is measured again.
   std::vector<std::uint32_t> obstacle_tris;
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
     if (measures.role[topo.tri_mesh[t]] == Role::kObstacle && !measures.buried[t])
@@ -137,6 +140,8 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
         // Clearance: slide along the obstacle, or hold.
         const double clearance = in.clearance[topo.vertex_mesh[v]];
         if (obstacles && lower[i] - step < clearance) {
+          // lower[i] may be a bound from an earlier sweep: the slide below needs the distance.
+          lower[i] = distance(from[i]);
           double next = distance(target);
           if (next < clearance && next < lower[i] && lower[i] > 0.0) {
             const auto c = obstacles->tree.closest_point(
