@@ -15,6 +15,7 @@
 #include <tuple>
 #include <vector>
 
+#include "resolve/canonical_order.h"
 #include "resolve/illegal_vertices.h"
 #include "scenes/scenes.h"
 #include "test_support.h"
@@ -141,6 +142,35 @@ named_contacts(const IntersectionCounts& counts, const std::vector<std::uint32_t
 }
 
 const std::vector<std::vector<std::uint32_t>> kOrders = {{0, 1, 2}, {1, 0, 2}, {2, 1, 0}};
+
+// The canonical order comes from the meshes: every listing of a sheet, a larger sheet with as
+// many vertices, an exact copy of the first and a body gives the same meshes slot by slot, the
+// movable ones first, and the two copies keep their listing order between them.
+TEST(MeshOrder, CanonicalOrderComesFromTheMeshes) {
+  const Mesh small = scenes::grid_sheet(6, 5, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, "small");
+  const Mesh large = scenes::grid_sheet(6, 5, {0, 0, 0.5}, {2, 0, 0}, {0, 1, 0}, "large");
+  Mesh body = scenes::uv_sphere({0, 0, 0}, 0.5, 8, 6, "body");
+  body.role = Role::kObstacle;
+  const std::vector<Mesh> meshes{body, large, small, small};
+  std::vector<std::uint32_t> order{0, 1, 2, 3};
+  std::vector<std::vector<Vec3>> first;
+  do {
+    const CanonicalScene scene = canonical_scene(listed(meshes, order));
+    std::vector<std::vector<Vec3>> slots;
+    for (const Mesh& m : scene.meshes) slots.push_back(m.positions);
+    if (first.empty()) first = slots;
+    EXPECT_TRUE(slots == first);
+    std::vector<std::uint32_t> original;  // which of `meshes` fills each slot
+    for (std::uint32_t listed_index : scene.mesh_order) original.push_back(order[listed_index]);
+    // The small sheets first (less area), the copy listed first in the first slot, then the large
+    // sheet, then the obstacle.
+    const auto position = [&](std::uint32_t m) { return std::find(order.begin(), order.end(), m) - order.begin(); };
+    EXPECT_EQ(original[0], position(2) < position(3) ? 2u : 3u);
+    EXPECT_EQ(original[1], position(2) < position(3) ? 3u : 2u);
+    EXPECT_EQ(original[2], 1u);
+    EXPECT_EQ(original[3], 0u);
+  } while (std::next_permutation(order.begin(), order.end()));
+}
 
 // check and render --inside: the same crossings (by mesh, edge and face), contours, contour
 // length to the bit, contacts and illegal vertices whichever order the garment, its second layer
