@@ -41,6 +41,10 @@ class ShapeSolve {
   void targets(const std::vector<Vec3>& points, const std::vector<std::uint8_t>& fixed,
                const std::vector<Contact>& contacts, int iterations, std::vector<Vec3>& out);
 
+  // The unknowns factored so far, summed over the factorizations: the solve's work, counted so
+  // that a bound on it does not depend on the machine.
+  std::size_t factored_unknowns() const { return factored_unknowns_; }
+
  private:
   void factor(const std::vector<std::uint8_t>& fixed, const std::vector<Contact>& contacts,
               const std::vector<std::uint8_t>& held);
@@ -54,6 +58,7 @@ class ShapeSolve {
   std::vector<std::uint8_t> factored_fixed_;
   std::vector<std::uint8_t> factored_held_;
   bool factored_ = false;
+  std::size_t factored_unknowns_ = 0;
   std::vector<std::uint8_t> analyzed_pattern_;  // the contact blocks of the ordered pattern
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
 };
