@@ -71,7 +71,9 @@ void expect_sewn_and_clean(const FixRun& run, bool rotated) {
   EXPECT_NE(run.out.find("contacts (not crossings): 48 seam vertices"), std::string::npos) << run.out;
   ASSERT_EQ(run.input.positions.size(), run.output.positions.size());
   for (std::size_t v = 0; v < run.input.positions.size(); ++v) {
-    if (on_seam(v)) EXPECT_EQ(run.input.positions[v], run.output.positions[v]) << "seam vertex " << v << " moved";
+    if (on_seam(v)) {
+      EXPECT_EQ(run.input.positions[v], run.output.positions[v]) << "seam vertex " << v << " moved";
+    }
     if (!rotated && !on_seam(v)) {
       const Vec3& p = run.output.positions[v];
       EXPECT_GE(std::hypot(p[0], p[1]), 0.5) << "garment vertex " << v << " inside the body";
