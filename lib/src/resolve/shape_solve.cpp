@@ -21,6 +21,14 @@ constexpr double kContact = 1e3;
 // 260 against 114, largest edge ratio 1.36 against 1.34).
 constexpr int kHeldUpdates = 2;
 
+// Whether two sets of contact planes are the same (the matrix holds their normals and pattern).
+bool same_planes(const std::vector<ShapeSolve::Contact>& a, const std::vector<ShapeSolve::Contact>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].active != b[i].active || (a[i].active && a[i].normal != b[i].normal)) return false;
+  return true;
+}
+
 }  // namespace
 
 ShapeSolve::ShapeSolve(const SceneTopology& topo, const std::vector<Vec3>& rest,
@@ -108,6 +116,7 @@ void ShapeSolve::factor(const std::vector<std::uint8_t>& fixed,
   factored_unknowns_ += static_cast<std::size_t>(n);
   factored_fixed_ = fixed;
   factored_held_ = held;
+  factored_contacts_ = contacts;
   factored_ = true;
 }
 
@@ -134,7 +143,9 @@ void ShapeSolve::targets(const std::vector<Vec3>& points, const std::vector<std:
   }
   std::vector<std::array<double, 9>> rotation(cells.size());
   for (int iteration = 0; iteration < iterations; ++iteration) {
-    if (!factored_ || fixed != factored_fixed_ || held != factored_held_) factor(fixed, contacts, held);
+    if (!factored_ || fixed != factored_fixed_ || held != factored_held_ ||
+        !same_planes(contacts, factored_contacts_))
+      factor(fixed, contacts, held);
     const Eigen::Index rows = solver_.rows();
     if (rows == 0 || solver_.info() != Eigen::Success) break;
     for (std::size_t c = 0; c < cells.size(); ++c) rotation[c] = fit_rotation(cells[c], x);

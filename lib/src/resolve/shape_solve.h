@@ -57,6 +57,7 @@ class ShapeSolve {
   std::vector<std::uint32_t> local_;     // welded vertex -> index in part_, or kNone
   std::vector<std::uint8_t> factored_fixed_;
   std::vector<std::uint8_t> factored_held_;
+  std::vector<Contact> factored_contacts_;  // the planes whose normals and pattern it holds
   bool factored_ = false;
   std::size_t factored_unknowns_ = 0;
   std::vector<std::uint8_t> analyzed_pattern_;  // the contact blocks of the ordered pattern
