@@ -57,6 +57,7 @@ std::vector<PartMoves> part_moves(const RepairContext& ctx, Scratch& scratch, st
   std::vector<PartMoves> out;
   if (tree.triangles.empty()) return out;
   const double clearance = ctx.options.clearance * ctx.measures.mean_edge[mesh];
+  const double reach = ctx.measures.mean_edge[mesh] > 0.0 ? ctx.measures.mean_edge[mesh] : 1.0;
   std::vector<std::uint8_t>& member = scratch.member;
   for (std::uint32_t v : vertices) member[v] = 1;
 
@@ -124,8 +125,11 @@ std::vector<PartMoves> part_moves(const RepairContext& ctx, Scratch& scratch, st
           ok = false;
           continue;
         }
+        // CGAL stores a ray as its source and source + direction: a direction one mean edge long
+        // (not one unit) makes that second point, and so the ray, scale with the scene.
+        const Vec3 along = scale(d, reach);
         const auto exit = tree.tree.first_intersection(
-            TreeKernel::Ray_3(query, TreeKernel::Vector_3(d[0], d[1], d[2])));
+            TreeKernel::Ray_3(query, TreeKernel::Vector_3(along[0], along[1], along[2])));
         const TreeKernel::Point_3* point = nullptr;
         if (exit) point = boost::get<TreeKernel::Point_3>(&exit->first);
         if (point == nullptr) {
