@@ -71,8 +71,9 @@ class Winding {
   // The winding number of the surfaces about q: the median over three fixed directions of the
   // signed count of faces a ray from q crosses (+1 leaving through a face's outer side). A ray
   // through an edge or a vertex counts its faces twice or not at all; the other two rays outvote
-  // it.
-  int at(const Vec3& q) const {
+  // it. `reach` is a length of the scene's (CGAL stores a ray as its source and source +
+  // direction: directions `reach` long make that second point scale with the scene).
+  int at(const Vec3& q, double reach) const {
     static constexpr std::array<std::array<double, 3>, 3> kDirections = {{
         {0.5361, 0.6723, 0.5105},
         {-0.7071, 0.3119, 0.6346},
@@ -81,10 +82,10 @@ class Winding {
     std::array<int, 3> counts{};
     for (std::size_t r = 0; r < kDirections.size(); ++r) {
       const auto& d = kDirections[r];
+      const TreeKernel::Vector_3 along(d[0] * reach, d[1] * reach, d[2] * reach);
       hits_.clear();
-      tree_.all_intersected_primitives(TreeKernel::Ray_3(TreeKernel::Point_3(q[0], q[1], q[2]),
-                                                         TreeKernel::Vector_3(d[0], d[1], d[2])),
-                                       std::back_inserter(hits_));
+      tree_.all_intersected_primitives(
+          TreeKernel::Ray_3(TreeKernel::Point_3(q[0], q[1], q[2]), along), std::back_inserter(hits_));
       int count = 0;
       for (const auto& hit : hits_) {
         const TreeKernel::Vector_3 n = hit->supporting_plane().orthogonal_vector();
@@ -120,7 +121,7 @@ bool outer_side_inside(const SceneTopology& topology, std::uint32_t t, int orien
   const double offset = 1e-3 * shortest * orientation / length;
   Vec3 q;
   for (int k = 0; k < 3; ++k) q[k] = (a[k] + b[k] + c[k]) / 3.0 + offset * n[k];
-  return winding.at(q) != 0;
+  return winding.at(q, shortest) != 0;
 }
 
 }  // namespace
