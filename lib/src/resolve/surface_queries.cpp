@@ -7,6 +7,12 @@
 #include "geometry/vec3.h"
 
 namespace untangle {
+namespace {
+
+// Nearer to the surface than this many mean edges, a vertex takes the normal of the face reported.
+constexpr double kOwnNormal = 1e-3;
+
+}  // namespace
 
 std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
                                      const std::vector<std::uint32_t>& tris) {
@@ -116,8 +122,18 @@ std::vector<NearPoint> near_points(const SceneTopology& topo, const SceneMeasure
     if (norm(sub(p, c)) > near) continue;
     const std::uint32_t face =
         tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
-    const Vec3 n = oriented_normal(topo, measures, face);
-    const double side = dot(sub(p, c), n);
+    // Off a face's interior the closest point lies on an edge or a corner that several faces
+    // share, and which of them the tree reports follows rounding (the scene turned, or in other
+    // units, gets another face and another normal). The direction from the closest point, turned
+    // to the reported face's side, is the same whichever it is: the normal unless p lies (nearly)
+    // on the surface. Within a face's interior the two agree.
+    Vec3 n = oriented_normal(topo, measures, face);
+    const Vec3 to = sub(p, c);
+    const double gap = norm(to);
+    const double facing = dot(to, n);
+    if (gap > kOwnNormal * measures.mean_edge[mesh] && facing != 0.0)
+      n = scale(to, (facing > 0.0 ? 1.0 : -1.0) / gap);
+    const double side = dot(to, n);
     vote += side > 0 ? 1 : side < 0 ? -1 : 0;
     out.push_back({v, face, c, n, side});
   }
