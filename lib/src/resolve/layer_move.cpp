@@ -298,7 +298,11 @@ void separate_coincident_layers(const RepairContext& ctx, SurfaceTrees& surfaces
         near_points(topo, ctx.measures, mover, *tree, 0.5 * ctx.measures.mean_edge[mesh], vote);
     const double sign = vote < 0 ? -1.0 : 1.0;
     for (const NearPoint& x : close) {
-      if (!ctx.measures.free[x.v] || moves.has_region[x.v] || sign * x.side >= clearance) continue;
+      // Half the clearance is enough to leave a vertex alone, as in lay_layer: one laid at the
+      // clearance was laid again, or not, as its side rounded (in mm, or turned, it went the
+      // other way and the run diverged: male_casualsuit04 x 1000, --no-relax, no retries).
+      if (!ctx.measures.free[x.v] || moves.has_region[x.v] || sign * x.side >= 0.5 * clearance)
+        continue;
       moves.region[x.v] = sub(add(x.c, scale(x.n, sign * clearance)), topo.points[x.v]);
       moves.has_region[x.v] = 1;
       in_moving_set[x.v] = 1;
