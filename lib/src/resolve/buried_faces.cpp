@@ -85,7 +85,8 @@ class Winding {
       const TreeKernel::Vector_3 along(d[0] * reach, d[1] * reach, d[2] * reach);
       hits_.clear();
       tree_.all_intersected_primitives(
-          TreeKernel::Ray_3(TreeKernel::Point_3(q[0], q[1], q[2]), along), std::back_inserter(hits_));
+          TreeKernel::Ray_3(TreeKernel::Point_3(q[0], q[1], q[2]), along),
+          std::back_inserter(hits_));
       int count = 0;
       for (const auto& hit : hits_) {
         const TreeKernel::Vector_3 n = hit->supporting_plane().orthogonal_vector();

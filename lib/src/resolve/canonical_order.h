@@ -16,10 +16,12 @@ struct CanonicalMesh {
 
 // The repair sums moves, averages and breaks ties in index order, so its floating-point result
 // depends on the order of vertices and faces in the file. It therefore runs on a canonical
-// renumbering of every mesh: vertices sorted by position (exact duplicates, which weld into one
-// vertex and move together, by input index), each triangle rotated to start at its smallest
-// canonical corner (orientation kept) and triangles sorted by corners. The same geometry in any
-// vertex or face order then gives the same positions, bit for bit (tests/test_determinism.cpp).
+// renumbering of every mesh: vertices sorted by their distance from the mesh's mean position,
+// which turns and scales with the scene (equal distances by position; exact duplicates, which weld
+// into one vertex and move together, by input index), each triangle rotated to start at its
+// smallest canonical corner (orientation kept) and triangles sorted by corners. The same geometry
+// in any vertex or face order then gives the same positions, bit for bit
+// (tests/test_determinism.cpp), and a turned scene is numbered alike (tests/test_unit_free.cpp).
 // Detection (`check`, fix's verdict) runs on it too: its symbolic perturbation orders points by
 // their ids, so degenerate configurations (shared positions, coplanar faces) would otherwise be
 // resolved one way in `check` and another in `fix` (tests/test_check_fix_agree.cpp).
