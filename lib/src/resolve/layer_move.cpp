@@ -15,6 +15,9 @@ namespace {
 // How far (in mean edge lengths) a vertex of the outer layer that dips through the inner one is
 // still laid back on its side.
 constexpr double kLayerReach = 2.0;
+// A vertex this close to the clearance (relative) counts as laid there: rounding leaves a side
+// computed from a position laid at the clearance within ~1e-14 of it.
+constexpr double kLaidTolerance = 1e-9;
 
 // Adds to delta[v] what it lacks of `length` along the unit direction `along` (each vertex keeps
 // the longest push asked of it along a direction).
@@ -298,10 +301,11 @@ void separate_coincident_layers(const RepairContext& ctx, SurfaceTrees& surfaces
         near_points(topo, ctx.measures, mover, *tree, 0.5 * ctx.measures.mean_edge[mesh], vote);
     const double sign = vote < 0 ? -1.0 : 1.0;
     for (const NearPoint& x : close) {
-      // Half the clearance is enough to leave a vertex alone, as in lay_layer: one laid at the
-      // clearance was laid again, or not, as its side rounded (in mm, or turned, it went the
-      // other way and the run diverged: male_casualsuit04 x 1000, --no-relax, no retries).
-      if (!ctx.measures.free[x.v] || moves.has_region[x.v] || sign * x.side >= 0.5 * clearance)
+      // One laid at the clearance stays: its side, rounded, can come out a little short of it,
+      // and it was laid again or not as it rounded (in mm, or turned, the other way, and the run
+      // diverged: male_casualsuit04 x 1000, --no-relax, no retries).
+      if (!ctx.measures.free[x.v] || moves.has_region[x.v] ||
+          sign * x.side >= (1.0 - kLaidTolerance) * clearance)
         continue;
       moves.region[x.v] = sub(add(x.c, scale(x.n, sign * clearance)), topo.points[x.v]);
       moves.has_region[x.v] = 1;
