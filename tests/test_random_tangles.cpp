@@ -394,10 +394,11 @@ TEST(RandomTangles, FixIsCleanOrListsWhatRemains) {
 
 // Scenes without a self contour whose first stage stalls: the second stage, with only measured
 // steps and relaxed neighbourhoods on the contours between movable meshes, resolves them. (The
-// second stage once ran only for self contours; these four then ended with 12, 4, 9 and 14
-// crossings.)
+// second stage once ran only for self contours; 102, 106, 115 and 170 then ended with 12, 4, 9
+// and 14 crossings. Since the canonical order stopped following the coordinates, which renumbered
+// every scene, 102 and 106 end clean in the first stage: 104 and 107 took their place.)
 TEST(RandomTangles, SecondStageResolvesWhatTheFirstLeaves) {
-  for (std::uint64_t seed : {102u, 106u, 115u, 170u}) {
+  for (std::uint64_t seed : {104u, 107u, 115u, 170u}) {
     const scenes::RandomTangle tangle = scenes::random_tangle(seed);
     SCOPED_TRACE(tangle.description);
     std::vector<Mesh> meshes = scenes::scene_meshes(tangle.scene);
@@ -420,9 +421,11 @@ TEST(RandomTangles, SecondStageResolvesWhatTheFirstLeaves) {
 
 // Scenes where both stages stall: the third starts from the best state either reached, with the
 // second stage's rules, and resolves them. Its first entry is that best count; before the third
-// stage these four ended with 65, 3, 4 and 10 crossings.
+// stage 45, 79, 163 and 223 ended with 65, 3, 4 and 10 crossings. Since the canonical order stopped
+// following the coordinates (every scene renumbered), 163 ends clean in the first stage and 79
+// stalls with 112 crossings (counted by FixIsCleanOrListsWhatRemains); 41 and 101 took their place.
 TEST(RandomTangles, ThirdStageResolvesFromTheBestState) {
-  for (std::uint64_t seed : {45u, 79u, 163u, 223u}) {
+  for (std::uint64_t seed : {41u, 45u, 101u, 223u}) {
     const scenes::RandomTangle tangle = scenes::random_tangle(seed);
     SCOPED_TRACE(tangle.description);
     std::vector<Mesh> meshes = scenes::scene_meshes(tangle.scene);
