@@ -53,7 +53,10 @@ CanonicalMesh canonical(const Mesh& input) {
   // ties would follow); equal distances (a mirror-symmetric mesh) by position, then input index.
   const Vec3 centre = exact_mean(input.positions);
   std::vector<double> key(nv);
-  for (std::uint32_t i = 0; i < nv; ++i) key[i] = squared_distance(input.positions[i], centre);
+  for (std::uint32_t i = 0; i < nv; ++i) {
+    key[i] = squared_distance(input.positions[i], centre);
+    if (std::isnan(key[i])) key[i] = INFINITY;  // keeps the order strict (readers refuse NaN)
+  }
   out.vertex_order.resize(nv);
   for (std::uint32_t i = 0; i < nv; ++i) out.vertex_order[i] = i;
   std::sort(out.vertex_order.begin(), out.vertex_order.end(),
