@@ -36,6 +36,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/intersection.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Side_of_triangle_mesh.h>
 #include <CGAL/Surface_mesh.h>
 
 #include <algorithm>
@@ -375,6 +376,17 @@ inline std::size_t surface_intersection_polylines(const ReferenceMesh& a, const 
     for (const auto& polyline : polylines) *points += polyline.size();
   }
   return polylines.size();
+}
+
+// The vertices of `movable` that CGAL's Side_of_triangle_mesh puts on the bounded side of the
+// closed mesh `closed_body`.
+inline std::size_t inside_count(const Mesh& movable, const Mesh& closed_body) {
+  const ReferenceMesh ref = to_reference_mesh(closed_body);
+  const CGAL::Side_of_triangle_mesh<SurfaceMesh, Kernel> side(ref.mesh);
+  std::size_t n = 0;
+  for (const Vec3& p : movable.positions)
+    n += side(Kernel::Point_3(p[0], p[1], p[2])) == CGAL::ON_BOUNDED_SIDE ? 1 : 0;
+  return n;
 }
 
 }  // namespace untangle::cgal_reference

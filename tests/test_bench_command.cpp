@@ -73,8 +73,9 @@ TEST_F(BenchQuick, JsonHasEveryStageForEveryScene) {
     EXPECT_GT(row["timing_ms"]["load"]["best"].get<double>(), 0.0) << where << ": load reads files";
     const bool intersection_free = row["crossings_after"] == 0 && row["inside_after"] == 0;
     EXPECT_EQ(row["status"] == "clean" || row["status"] == "distorted", intersection_free) << where;
-    if (intersection_free && (row["max_stretch"] > 1.5 || row["flipped_faces"] > 0))
+    if (intersection_free && (row["max_stretch"] > 1.5 || row["flipped_faces"] > 0)) {
       EXPECT_EQ(row["status"], "distorted") << where;
+    }
     EXPECT_EQ(row["history"].size(), row["iterations"].get<std::size_t>() + 1) << where;
     EXPECT_EQ(row["history"][0]["crossings"], row["crossings_before"]) << where;
   }

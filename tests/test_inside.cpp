@@ -4,8 +4,6 @@
 // which is the winding number of a closed mesh) and CGAL's Side_of_triangle_mesh.
 #include <gtest/gtest.h>
 
-#include <CGAL/Side_of_triangle_mesh.h>
-
 #include <cmath>
 #include <cstddef>
 #include <string>
@@ -54,16 +52,6 @@ std::size_t ray_inside(const Mesh& movable, const Mesh& closed_body) {
   return n;
 }
 
-std::size_t cgal_inside(const Mesh& movable, const Mesh& closed_body) {
-  const cgal_reference::ReferenceMesh ref = cgal_reference::to_reference_mesh(closed_body);
-  const CGAL::Side_of_triangle_mesh<cgal_reference::SurfaceMesh, cgal_reference::Kernel> side(
-      ref.mesh);
-  std::size_t n = 0;
-  for (const Vec3& p : movable.positions)
-    n += side(cgal_reference::Kernel::Point_3(p[0], p[1], p[2])) == CGAL::ON_BOUNDED_SIDE ? 1 : 0;
-  return n;
-}
-
 // `mesh` without the triangles whose centroid lies within `radius` of one of `centres` (holes).
 Mesh with_holes(Mesh mesh, const std::vector<Vec3>& centres, double radius) {
   std::vector<Triangle> kept;
@@ -103,7 +91,7 @@ TEST(Inside, WindingNumberAgreesWithRayCastAndCgal) {
     EXPECT_EQ(found.counts.inside_by_mesh[0], by_ray);
     EXPECT_EQ(found.counts.inside_by_mesh[1], 0u);
     if (b < 2) {
-      EXPECT_EQ(cgal_inside(sheet, body), by_ray) << body.name;
+      EXPECT_EQ(cgal_reference::inside_count(sheet, body), by_ray) << body.name;
     }
   }
 }
@@ -158,12 +146,12 @@ TEST(Inside, GarmentWhollyInsideClosedBody) {
   const Intersections before = detect(meshes);
   EXPECT_EQ(before.counts.crossings, 0u);
   EXPECT_EQ(before.counts.inside_vertices, meshes[0].positions.size());
-  EXPECT_EQ(cgal_inside(meshes[0], body), meshes[0].positions.size());
+  EXPECT_EQ(cgal_reference::inside_count(meshes[0], body), meshes[0].positions.size());
 
   const FixResult result = fix_meshes(meshes, FixOptions{});
   EXPECT_EQ(result.before.inside_vertices, meshes[0].positions.size());
   expect_clean(result, meshes, body);
-  EXPECT_EQ(cgal_inside(meshes[0], body), 0u);
+  EXPECT_EQ(cgal_reference::inside_count(meshes[0], body), 0u);
 }
 
 // The panel mostly inside a body (panel_in_body), the body open: a hole cut at its bottom pole, so

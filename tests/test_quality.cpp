@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <CGAL/box_intersection_d.h>
 #include <nlohmann/json.hpp>
 
 #include "cgal_reference.h"
@@ -282,6 +284,90 @@ TEST(Quality, TwoCornerFacesAreSkippedWithAWarningAndKept) {
   // -q keeps stderr quiet.
   EXPECT_EQ(run_cli("check -q " + quote(in)).err, "");
 }
+
+// Intersecting triangle pairs of a garment, as a triangle soup, with the body and with itself,
+// each decided by CGAL's exact do_intersect(Triangle_3, Triangle_3) after a box intersection: for
+// garments whose welded faces CGAL's Surface_mesh refuses (female_elegantsuit01's are not
+// consistently oriented once welded). Garment triangles sharing a position are not tested against
+// each other (they touch there).
+std::size_t soup_pairs(const Mesh& garment, const Mesh& body) {
+  using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using Box = CGAL::Box_intersection_d::Box_with_info_d<double, 3, std::uint32_t>;
+  std::vector<Kernel::Triangle_3> tris;
+  std::vector<std::array<Vec3, 3>> corners;
+  auto add = [&](const Mesh& m) {
+    for (const Triangle& t : m.triangles) {
+      std::array<Kernel::Point_3, 3> p;
+      for (int k = 0; k < 3; ++k) {
+        const Vec3& v = m.positions[t[k]];
+        p[k] = Kernel::Point_3(v[0], v[1], v[2]);
+      }
+      tris.emplace_back(p[0], p[1], p[2]);
+      corners.push_back({m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]});
+    }
+  };
+  add(garment);
+  const std::size_t garment_tris = tris.size();
+  add(body);
+  std::vector<Box> garment_boxes, body_boxes;
+  for (std::uint32_t i = 0; i < tris.size(); ++i)
+    if (!tris[i].is_degenerate()) (i < garment_tris ? garment_boxes : body_boxes).emplace_back(tris[i].bbox(), i);
+  std::size_t n = 0;
+  auto test = [&](const Box& a, const Box& b) {
+    for (const Vec3& p : corners[a.info()])
+      for (const Vec3& q : corners[b.info()])
+        if (p == q) return;
+    if (CGAL::do_intersect(tris[a.info()], tris[b.info()])) ++n;
+  };
+  CGAL::box_intersection_d(garment_boxes.begin(), garment_boxes.end(), body_boxes.begin(),
+                           body_boxes.end(), test);
+  CGAL::box_self_intersection_d(garment_boxes.begin(), garment_boxes.end(), test);
+  return n;
+}
+
+// Issue 20's criterion on every MakeHuman garment on the body it was made for, as shipped
+// (testdata/makehuman and testdata/makehuman_more, CC0): `fix` ends clean, and the written file,
+// judged here, has no crossing with the body or itself (CGAL, soup_pairs), no vertex inside the body (CGAL's
+// Side_of_triangle_mesh), no flipped face, edge-length change p95 at most 5% and max at most 50%,
+// and no edge more than 1.5 times longer or shorter. Before the relaxation lifted its slides out to
+// the clearance and stopped holding a vertex for good, male_casualsuit01 ended with stretch 1.70
+// and 2 flipped faces, female_casualsuit01 with 1.52.
+class MakeHumanGarment : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(MakeHumanGarment, EndsCleanWithinTheBounds) {
+  const std::string name = GetParam();
+  const fs::path more = fs::path(UNTANGLE_SOURCE_DIR) / "testdata" / "makehuman_more";
+  const fs::path garment = fs::exists(kMakeHuman / (name + ".obj")) ? kMakeHuman / (name + ".obj")
+                                                                     : more / (name + ".obj");
+  const fs::path body = name.rfind("male_", 0) == 0 ? kMakeHuman / "male_generic.obj"
+                                                    : more / "female_generic.obj";
+  TempDir dir;
+  const std::string out = dir.file("fixed.obj"), report = dir.file("fixed.json");
+  const testing::RunResult r = run_cli("fix " + quote(garment.string()) + " --obstacle " +
+                                       quote(body.string()) + " -o " + quote(out) + " --report " +
+                                       quote(report) + " -q");
+  ASSERT_TRUE(fs::exists(out)) << r.err;
+  const nlohmann::json rep = nlohmann::json::parse(read_text(report));
+  EXPECT_EQ(r.exit_code, 0) << rep["quality"].dump(1);
+  EXPECT_EQ(rep["status"], "clean");
+  const Mesh input = read_meshes(garment.string(), Role::kMovable).at(0);
+  const Mesh output = read_meshes(out, Role::kMovable).at(0);
+  const Mesh obstacle = read_meshes(body.string(), Role::kObstacle).at(0);
+  EXPECT_GT(cgal_reference::inside_count(input, obstacle), 0u);  // the input is tangled
+  EXPECT_GT(soup_pairs(input, obstacle), 0u);
+  EXPECT_EQ(soup_pairs(output, obstacle), 0u);
+  EXPECT_EQ(cgal_reference::inside_count(output, obstacle), 0u);
+  const Shape shape = shape_change(input, output);
+  EXPECT_EQ(shape.flipped, 0u);
+  EXPECT_LE(p95(shape), 0.05);
+  EXPECT_LE(shape.change.back(), 0.5);
+  EXPECT_LE(shape.stretch, 1.5);
+}
+
+INSTANTIATE_TEST_SUITE_P(Quality, MakeHumanGarment,
+                         ::testing::Values("male_casualsuit01", "male_casualsuit02",
+                                           "male_casualsuit04", "female_casualsuit01",
+                                           "female_elegantsuit01", "female_sportsuit01"));
 
 }  // namespace
 }  // namespace untangle

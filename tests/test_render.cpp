@@ -334,7 +334,9 @@ TEST(Render, IllegalRegionIsTheSheetInsideTheSphere) {
       EXPECT_EQ(illegal[0][v], 1) << "vertex " << v << " inside the sphere";
       ++inside;
     }
-    if (d > 1.05 * radius) EXPECT_EQ(illegal[0][v], 0) << "vertex " << v << " outside the sphere";
+    if (d > 1.05 * radius) {
+      EXPECT_EQ(illegal[0][v], 0) << "vertex " << v << " outside the sphere";
+    }
   }
   EXPECT_GT(inside, 10u);
   for (std::uint8_t f : illegal[1]) EXPECT_EQ(f, 0);  // obstacles are never illegal

@@ -1,10 +1,17 @@
-// Canonical renumbering of a mesh, so that the repair's result does not depend on the order of
-// vertices and faces in the file.
+// Canonical renumbering of a mesh, and canonical order of a scene's meshes, so that the repair's
+// result depends neither on the order of vertices and faces in the file nor on the order in which
+// the meshes are listed.
 #include "resolve/canonical_order.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <numeric>
+#include <tuple>
+#include <utility>
+
+#include "geometry/vec3.h"
 
 namespace untangle {
 namespace {
@@ -102,6 +109,116 @@ CanonicalMesh canonical(const Mesh& input) {
     if (t < input.triangle_group.size()) out.mesh.triangle_group.push_back(input.triangle_group[t]);
   }
   return out;
+}
+
+namespace {
+
+// Steps 2 to 4 of the canonical mesh order (canonical_order.h), computed once per mesh.
+struct MeshKey {
+  int role = 0;
+  std::size_t vertices = 0, triangles = 0;
+  std::vector<std::size_t> valence_counts;  // [v] = how many vertices have v neighbours
+  float area = 0.0f;
+
+  auto tied() const { return std::tie(role, vertices, triangles, valence_counts, area); }
+};
+
+MeshKey key_of(const Mesh& mesh) {
+  MeshKey key;
+  key.role = static_cast<int>(mesh.role);
+  key.vertices = mesh.positions.size();
+  key.triangles = mesh.triangles.size();
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(3 * mesh.triangles.size());
+  std::vector<double> areas;
+  areas.reserve(mesh.triangles.size());
+  for (const Triangle& t : mesh.triangles) {
+    if (t[0] >= key.vertices || t[1] >= key.vertices || t[2] >= key.vertices) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+    areas.push_back(triangle_area(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]));
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<std::size_t> valence(key.vertices, 0);
+  for (const auto& [a, b] : edges) {
+    ++valence[a];
+    ++valence[b];
+  }
+  for (std::size_t v : valence) {
+    if (v >= key.valence_counts.size()) key.valence_counts.resize(v + 1, 0);
+    ++key.valence_counts[v];
+  }
+  std::sort(areas.begin(), areas.end());
+  key.area = static_cast<float>(std::accumulate(areas.begin(), areas.end(), 0.0));
+  if (std::isnan(key.area)) key.area = INFINITY;  // keeps the order strict (readers refuse NaN)
+  return key;
+}
+
+// Step 5: positions bit for bit (a strict order even for -0.0 and NaN), then triangles.
+int compare_geometry(const Mesh& a, const Mesh& b) {
+  for (std::size_t i = 0; i < a.positions.size() && i < b.positions.size(); ++i) {
+    const int c = std::memcmp(a.positions[i].data(), b.positions[i].data(), sizeof(Vec3));
+    if (c != 0) return c;
+  }
+  if (a.triangles != b.triangles) return a.triangles < b.triangles ? -1 : 1;
+  return 0;
+}
+
+}  // namespace
+
+CanonicalScene canonical_scene(const std::vector<Mesh>& input,
+                               const std::vector<std::vector<std::uint8_t>>& pins) {
+  const std::size_t n = input.size();
+  std::vector<CanonicalMesh> renumbered;
+  std::vector<MeshKey> keys;
+  std::vector<std::vector<std::uint8_t>> canonical_pins(n);
+  renumbered.reserve(n);
+  keys.reserve(n);
+  for (std::size_t m = 0; m < n; ++m) {
+    renumbered.push_back(canonical(input[m]));
+    keys.push_back(key_of(renumbered[m].mesh));
+    if (m < pins.size() && !pins[m].empty()) {
+      const auto& order = renumbered[m].vertex_order;
+      canonical_pins[m].assign(order.size(), 0);
+      for (std::size_t k = 0; k < order.size(); ++k)
+        if (order[k] < pins[m].size()) canonical_pins[m][k] = pins[m][order[k]];
+    }
+  }
+  CanonicalScene scene;
+  scene.mesh_order.resize(n);
+  std::iota(scene.mesh_order.begin(), scene.mesh_order.end(), 0u);
+  std::sort(scene.mesh_order.begin(), scene.mesh_order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    if (keys[a].tied() != keys[b].tied()) return keys[a].tied() < keys[b].tied();
+    const int geometry = compare_geometry(renumbered[a].mesh, renumbered[b].mesh);
+    if (geometry != 0) return geometry < 0;
+    if (canonical_pins[a] != canonical_pins[b]) return canonical_pins[a] < canonical_pins[b];
+    return a < b;
+  });
+  scene.mesh_rank.resize(n);
+  for (std::uint32_t c = 0; c < n; ++c) scene.mesh_rank[scene.mesh_order[c]] = c;
+  for (std::uint32_t m : scene.mesh_order) {
+    scene.meshes.push_back(std::move(renumbered[m].mesh));
+    renumbered[m].mesh = Mesh{};
+    scene.renumbering.push_back(std::move(renumbered[m]));
+    scene.pins.push_back(std::move(canonical_pins[m]));
+  }
+  return scene;
+}
+
+void counts_in_input_order(const CanonicalScene& scene, IntersectionCounts& counts) {
+  counts.inside_by_mesh = in_input_order(scene, counts.inside_by_mesh);
+  for (MeshContact& c : counts.contacts) {
+    const std::uint32_t a = scene.mesh_order[c.mesh_a], b = scene.mesh_order[c.mesh_b];
+    c.mesh_a = std::min(a, b);
+    c.mesh_b = std::max(a, b);
+  }
+  std::sort(counts.contacts.begin(), counts.contacts.end(),
+            [](const MeshContact& x, const MeshContact& y) {
+              return std::tie(x.mesh_a, x.mesh_b) < std::tie(y.mesh_a, y.mesh_b);
+            });
 }
 
 }  // namespace untangle

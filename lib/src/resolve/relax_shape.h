@@ -39,10 +39,12 @@ struct RelaxShapeInputs {
 // the input's shape, each sweep halfway to the as-rigid-as-possible solution (shape_solve.h) with
 // every vertex outside them, and every vertex that holds, fixed, and the obstacles near a vertex as
 // its contact plane. A proposal that would bring a vertex nearer than `clearance` to an obstacle
-// (and nearer than it is) slides along the obstacle instead, or holds; one that would make a
-// crossing or put a vertex inside an obstacle is shortened, then held, and the rest of the sweep
-// solved again around it; a vertex held kRefusals sweeps in a row stays where it is. Every sweep
-// ends as clean as it started. `hierarchy` is refitted to the positions left; `set` stays empty.
+// (and nearer than it is) slides along the obstacle instead (lifted back out to the clearance
+// where the obstacle curves under the slide), or holds; one that would make a crossing or put a
+// vertex inside an obstacle is shortened, then held, and the rest of the sweep solved again
+// around it. A sweep that cannot be made clean is undone and what it refused sits the next one
+// out; a second in a row ends the relaxation, and so does a strain (squared relative edge-length
+// change) that has stopped falling. Every sweep ends as clean as it started. `hierarchy` is refitted to the positions left; `set` stays empty.
 // `moved[v]` is set for every vertex the relaxation changed.
 RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
                              SceneHierarchy& hierarchy, std::vector<std::uint32_t>& inside,

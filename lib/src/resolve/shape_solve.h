@@ -35,10 +35,15 @@ class ShapeSolve {
   // `points`; part[i] with fixed[i] set, and every vertex outside part, stays where it is. A
   // vertex whose iterate goes past its contact plane (`contacts`, per part index, or empty) is held
   // on the plane in the normal direction only, by a stiff term of the solve, and stays free along
-  // it: a garment pressed onto the body keeps sliding toward its shape. The matrix is factored
-  // factored again when the fixed vertices or the contacts held change.
+  // it: a garment pressed onto the body keeps sliding toward its shape. The matrix's pattern is
+  // ordered again only when the contact planes change; its numbers are factored again when the
+  // fixed vertices or the contacts held change.
   void targets(const std::vector<Vec3>& points, const std::vector<std::uint8_t>& fixed,
                const std::vector<Contact>& contacts, int iterations, std::vector<Vec3>& out);
+
+  // The unknowns factored so far, summed over the factorizations: the solve's work, counted so
+  // that a bound on it does not depend on the machine.
+  std::size_t factored_unknowns() const { return factored_unknowns_; }
 
  private:
   void factor(const std::vector<std::uint8_t>& fixed, const std::vector<Contact>& contacts,
@@ -50,10 +55,11 @@ class ShapeSolve {
   const std::vector<Vec3>& rest_;
   const std::vector<std::uint32_t>& part_;
   std::vector<std::uint32_t> local_;     // welded vertex -> index in part_, or kNone
-  std::vector<std::uint32_t> unknown_;   // index in part_ -> unknown, or kNone (fixed)
   std::vector<std::uint8_t> factored_fixed_;
   std::vector<std::uint8_t> factored_held_;
   bool factored_ = false;
+  std::size_t factored_unknowns_ = 0;
+  std::vector<std::uint8_t> analyzed_pattern_;  // the contact blocks of the ordered pattern
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
 };
 
