@@ -115,6 +115,10 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   auto distance = [&](const Vec3& p) {
     return std::sqrt(obstacles->tree.squared_distance(TreeKernel::Point_3(p[0], p[1], p[2])));
   };
+  auto closest = [&](const Vec3& p) {
+    const auto c = obstacles->tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
+    return Vec3{c.x(), c.y(), c.z()};
+  };
   std::vector<double> lower(part.size(), INFINITY);
   if (obstacles)
     for (std::size_t i = 0; i < part.size(); ++i) lower[i] = distance(topo.points[part[i]]);
@@ -143,8 +147,7 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
       if (!obstacles) continue;
       const double clearance = in.clearance[topo.vertex_mesh[v]];
       if (lower[i] > clearance + 2.0 * measures.vertex_edge[v]) continue;
-      const auto c = obstacles->tree.closest_point(TreeKernel::Point_3(from[i][0], from[i][1], from[i][2]));
-      const Vec3 q{c.x(), c.y(), c.z()};
+      const Vec3 q = closest(from[i]);
       const double d = norm(sub(from[i], q));
       lower[i] = d;
       if (!(d > 0.0)) continue;
@@ -181,9 +184,7 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
           lower[i] = distance(from[i]);
           double next = distance(target);
           if (next < clearance && next < lower[i] && lower[i] > 0.0) {
-            const auto c = obstacles->tree.closest_point(
-                TreeKernel::Point_3(from[i][0], from[i][1], from[i][2]));
-            const Vec3 n = scale(sub(from[i], Vec3{c.x(), c.y(), c.z()}), 1.0 / lower[i]);
+            const Vec3 n = scale(sub(from[i], closest(from[i])), 1.0 / lower[i]);
             Vec3 d = sub(target, from[i]);
             const double toward = dot(d, n);
             if (toward < 0.0) d = sub(d, scale(n, toward));
@@ -198,9 +199,7 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
               // than the clearance: the point under the slid one, lifted out by the clearance.
               // Without it the collar of male_casualsuit01 held where the repair left it, its
               // edges around the neck stretched 1.7 times.
-              const auto c2 = obstacles->tree.closest_point(
-                  TreeKernel::Point_3(slid[0], slid[1], slid[2]));
-              const Vec3 q2{c2.x(), c2.y(), c2.z()};
+              const Vec3 q2 = closest(slid);
               const Vec3 n2 = scale(sub(slid, q2), 1.0 / there);
               if (dot(n2, n) > 0.0) {
                 Vec3 lifted = add(q2, scale(n2, clearance));
