@@ -106,16 +106,16 @@ SimulationScene load_scene_file(const std::string& file, std::vector<SceneInput>
         {"time_step", &o.time_step},     {"stretch", &o.stretch},    {"bend", &o.bend},
         {"damping", &o.damping},         {"density", &o.density},    {"friction", &o.friction},
         {"restitution", &o.restitution}, {"max_speed", &o.max_speed},
-        {"release_distance", &o.release_distance}};
+        {"contact_reach", &o.contact_reach}};
     const std::map<std::string, int*> counts = {{"substeps", &o.substeps},
                                                 {"solver_iterations", &o.solver_iterations}};
     for (const auto& [key, value] : c.items()) {
       const std::string name = "cloth." + key;
       if (key == "gravity") {
         o.gravity = vec3(value, name);
-      } else if (key == "hold_contacts") {
+      } else if (key == "contacts") {
         if (!value.is_boolean()) bad_key(file, name, "must be true or false");
-        o.hold_contacts = value.get<bool>();
+        o.contacts = value.get<bool>();
       } else if (const auto n = numbers.find(key); n != numbers.end()) {
         *n->second = number(value, name);
       } else if (const auto k = counts.find(key); k != counts.end()) {
@@ -286,7 +286,8 @@ int run_simulate(const SimulateOptions& o) {
       scenes::write_obj(scene.meshes[input.meshes[0]], input.path);
 
   nlohmann::ordered_json report;
-  report["schema_version"] = 1;
+  // 2: options.contacts and options.contact_reach replace hold_contacts and release_distance.
+  report["schema_version"] = 2;
   report["command"] = "simulate";
   report["untangle_version"] = UNTANGLE_VERSION;
   if (example)
@@ -298,8 +299,8 @@ int run_simulate(const SimulateOptions& o) {
                        {"substeps", c.substeps},   {"solver_iterations", c.solver_iterations},
                        {"stretch", c.stretch},     {"bend", c.bend},
                        {"damping", c.damping},     {"friction", c.friction},
-                       {"max_speed", c.max_speed}, {"hold_contacts", c.hold_contacts},
-                       {"release_distance", c.release_distance}, {"clearance", c.fix.clearance}};
+                       {"max_speed", c.max_speed}, {"contacts", c.contacts},
+                       {"contact_reach", c.contact_reach}, {"clearance", c.fix.clearance}};
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   const std::vector<Mesh> start_meshes = scene.meshes;
   RenderCamera camera;

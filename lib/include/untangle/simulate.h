@@ -40,14 +40,14 @@ struct ClothOptions {
   // (restitution; 0: the cloth lands without bouncing).
   double friction = 0.3;
   double restitution = 0.0;
-  // Whether a particle the correction moved keeps the plane through its corrected position, across
-  // the move, as a constraint of the following steps (projected after every global solve), until
-  // it has lifted off it by release_distance or slid 4 release_distance along it (mean edge
-  // lengths of the cloth at rest). Off by default: measured, it made things worse (a sheet on the
-  // ball reached kinetic energy 100 and edges at 6x their rest length where without it the
-  // energy stays under 2; docs/PERFORMANCE.md): a held plane goes stale as the cloth wraps round.
-  bool hold_contacts = false;
-  double release_distance = 0.25;
+  // Contact with the obstacles inside the solve: at the start of every step, a particle within
+  // contact_reach mean edge lengths (of the cloth at rest) of an obstacle gets the tangent plane at
+  // its closest point there, moved out by the repair's clearance, and is kept on its outer side
+  // after every global solve of that step. Planes are made fresh every step, so they follow the
+  // cloth as it wraps round; the correction then only has what slips between the planes (an edge
+  // over a spike's tip). Off: every step's push into the obstacle is left to the correction.
+  bool contacts = true;
+  double contact_reach = 1.0;
   // Largest distance a particle may travel in one step, in mean edge lengths of the cloth at rest.
   double max_speed = 0.5;
   // Whether the repair corrects every step. Off is for showing what the correction does.

@@ -96,7 +96,7 @@ void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
 
 void integrate_step(const ClothModel& model, const ClothOptions& options, double h,
                     std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                    const std::vector<ContactPlane>& contacts) {
+                    const ContactSet& contacts, std::vector<std::uint32_t>* touching) {
   const std::size_t n = x.size();
   if (!model.factored) return;
   // The inertial target s = x + h v + h^2 g; pinned particles stay.
@@ -107,7 +107,9 @@ void integrate_step(const ClothModel& model, const ClothOptions& options, double
   const Eigen::Index free_count = model.solver.rows();
   Eigen::VectorXd rhs[3] = {Eigen::VectorXd(free_count), Eigen::VectorXd(free_count),
                             Eigen::VectorXd(free_count)};
+  if (touching) touching->assign(n, 0);
   for (int iteration = 0; iteration < options.solver_iterations; ++iteration) {
+    const bool last = iteration + 1 == options.solver_iterations;
     for (int c = 0; c < 3; ++c) rhs[c].setZero();
     for (std::size_t i = 0; i < n; ++i) {
       const std::uint32_t k = model.unknown[i];
@@ -131,10 +133,36 @@ void integrate_step(const ClothModel& model, const ClothOptions& options, double
       for (std::size_t i = 0; i < n; ++i)
         if (model.unknown[i] != kNone) now[i][c] = solved[model.unknown[i]];
     }
-    for (std::size_t i = 0; i < contacts.size(); ++i) {
-      if (!contacts[i].active || model.unknown[i] == kNone) continue;
-      const double below = dot(sub(now[i], contacts[i].point), contacts[i].normal);
-      if (below < 0.0) now[i] = sub(now[i], scale(contacts[i].normal, below));
+    if (!contacts.begin.empty())
+      for (std::size_t i = 0; i < n; ++i) {
+        if (model.unknown[i] == kNone) continue;
+        for (std::uint32_t k = contacts.begin[i]; k < contacts.begin[i + 1]; ++k) {
+          const ContactPlane& plane = contacts.planes[k];
+          const double below = dot(sub(now[i], plane.point), plane.normal);
+          if (below >= 0.0) continue;
+          now[i] = sub(now[i], scale(plane.normal, below));
+          if (last && touching) (*touching)[i] = k + 1;
+        }
+      }
+    // Face planes: the point of the triangle moves out along the normal, its corners by their
+    // weights (the least change that puts the point on the plane), a pinned corner not at all.
+    for (std::size_t k = 0; k < contacts.faces.size(); ++k) {
+      const FacePlane& face = contacts.faces[k];
+      Vec3 at{0.0, 0.0, 0.0};
+      double sum = 0.0;
+      for (int j = 0; j < 3; ++j) {
+        at = add(at, scale(now[face.corner[j]], face.weight[j]));
+        if (model.unknown[face.corner[j]] != kNone) sum += face.weight[j] * face.weight[j];
+      }
+      const double below = dot(sub(at, face.plane.point), face.plane.normal);
+      if (below >= 0.0 || !(sum > 0.0)) continue;
+      for (int j = 0; j < 3; ++j) {
+        const std::uint32_t c = face.corner[j];
+        if (model.unknown[c] == kNone) continue;
+        now[c] = sub(now[c], scale(face.plane.normal, below * face.weight[j] / sum));
+        if (last && touching)
+          (*touching)[c] = static_cast<std::uint32_t>(contacts.planes.size() + 1 + k);
+      }
     }
   }
   x = std::move(now);

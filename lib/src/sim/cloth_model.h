@@ -38,21 +38,39 @@ struct ClothModel {
 void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
                        const ClothOptions& options, ClothModel& model);
 
-// A contact left by an earlier correction: the particle stays on the outer side of the plane
-// through `point` with unit normal `normal` (the direction the correction moved it).
+// A one-sided contact: the particle stays on the outer side of the plane through `point` with
+// unit normal `normal` (ObstacleContacts makes them, fresh at every step).
 struct ContactPlane {
-  bool active = false;
   Vec3 point{0.0, 0.0, 0.0};
   Vec3 normal{0.0, 0.0, 0.0};
 };
 
+// A point of a cloth triangle (corners `corner`, barycentric `weight`) that stays on the outer
+// side of a plane: an obstacle's vertex (a spike's tip) under the cloth, which no particle's own
+// plane sees because it meets the cloth between the particles.
+struct FacePlane {
+  std::array<std::uint32_t, 3> corner{};
+  Vec3 weight{0.0, 0.0, 0.0};
+  ContactPlane plane;
+};
+
+// The planes of every particle: particle i's are planes[begin[i] .. begin[i + 1]) (begin has one
+// entry more than there are particles, or none at all); and the face planes.
+struct ContactSet {
+  std::vector<std::uint32_t> begin;
+  std::vector<ContactPlane> planes;
+  std::vector<FacePlane> faces;
+};
+
 // One step of `h` seconds: x and v (per particle) in, x the predicted end of the step out (v
-// unchanged; the caller sets it from the corrected positions). A particle with an active contact
-// plane (`contacts`, per particle, or empty) is projected back onto the plane's outer side after
-// every global solve: contacts are constraints of the solve, so the stiff edges cannot pull a
-// corrected particle back through what it lies on (that pumped energy into a sheet on spikes).
+// unchanged; the caller sets it from the corrected positions). A particle with contact planes is
+// projected back onto each plane's outer side after every global solve, so the stiff edges cannot
+// pull it through what it lies on. `touching` (if given) gets, per particle, the index + 1 into
+// contacts.planes of the last plane the last iteration projected it onto (0: none): it ends the
+// step in contact there (or planes.size() + 1 + k for face plane k).
 void integrate_step(const ClothModel& model, const ClothOptions& options, double h,
                     std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                    const std::vector<ContactPlane>& contacts = {});
+                    const ContactSet& contacts = {},
+                    std::vector<std::uint32_t>* touching = nullptr);
 
 }  // namespace untangle

@@ -5,6 +5,7 @@
 
 #include "geometry/vec3.h"
 #include "sim/cloth_model.h"
+#include "sim/contact_planes.h"
 #include "sim/step_detector.h"
 #include "untangle/error.h"
 #include "untangle/simulate.h"
@@ -17,7 +18,9 @@ struct Simulation::State {
   std::vector<Vec3> x, v;                        // per particle
   std::vector<std::vector<Vec3>> obstacle_rest;  // per mesh: positions at frame 0 (obstacles)
   std::unique_ptr<StepDetector> detector;        // kept across steps (correct only)
-  std::vector<ContactPlane> contacts;            // per particle (ClothOptions::hold_contacts)
+  std::unique_ptr<ContactPlanes> planes;         // ClothOptions::contacts
+  ContactSet contacts;                           // this step's
+  std::vector<std::uint32_t> touching;           // per particle: the plane it ended on, + 1
   int frame = 0;
   double h = 0.0;
 };
@@ -44,8 +47,8 @@ void check_options(const ClothOptions& o) {
   if (!(o.friction >= 0.0 && o.friction <= 1.0)) bad("friction must be in [0, 1]");
   if (!(o.restitution >= 0.0 && o.restitution <= 1.0)) bad("restitution must be in [0, 1]");
   if (!(o.max_speed > 0.0) || !std::isfinite(o.max_speed)) bad("max_speed must be positive");
-  if (!(o.release_distance > 0.0) || !std::isfinite(o.release_distance))
-    bad("release_distance must be positive");
+  if (!(o.contact_reach > 0.0) || !std::isfinite(o.contact_reach))
+    bad("contact_reach must be positive");
   for (double g : o.gravity)
     if (!std::isfinite(g)) bad("gravity must be finite");
 }
@@ -82,10 +85,11 @@ Simulation::Simulation(SimulationScene scene) : state_(std::make_unique<State>()
   build_cloth_model(s.scene.meshes, s.scene.pins, s.scene.options, s.model);
   s.x = s.model.topo.points;
   s.v.assign(s.x.size(), Vec3{0.0, 0.0, 0.0});
-  s.contacts.assign(s.x.size(), ContactPlane{});
   s.obstacle_rest.resize(s.scene.meshes.size());
   for (std::size_t m = 0; m < s.scene.meshes.size(); ++m)
     if (s.scene.meshes[m].role == Role::kObstacle) s.obstacle_rest[m] = s.scene.meshes[m].positions;
+  if (s.scene.options.contacts)
+    s.planes = std::make_unique<ContactPlanes>(s.scene.meshes, s.model, s.scene.options.fix.threads);
   if (s.scene.options.correct)
     s.detector = std::make_unique<StepDetector>(s.scene.meshes, s.scene.options.fix.threads);
 }
@@ -119,7 +123,13 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
     const auto t0 = Clock::now();
     const std::vector<Vec3> start = s.x;
     for (Vec3& vel : s.v) vel = scale(vel, keep);
-    integrate_step(s.model, o, s.h, s.x, s.v, s.contacts);
+    if (s.planes) {
+      if (obstacles_moved) s.planes->update_obstacles(s.scene.meshes);
+      const double clearance = o.fix.clearance * s.model.mean_edge;
+      s.planes->make(s.model, s.x, clearance + o.contact_reach * s.model.mean_edge, clearance,
+                     s.contacts);
+    }
+    integrate_step(s.model, o, s.h, s.x, s.v, s.contacts, &s.touching);
     if (round)
       for (Vec3& p : s.x) p = round(p);
     to_meshes(s.model, s.x, s.scene.meshes);
@@ -147,29 +157,21 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
       }
       record.correct_ms += ms(t2, Clock::now());
     }
-    // Velocities follow the positions. Where the correction moved a particle by d, it was in
-    // contact: the velocity toward the other surface (against d) is taken out and the tangential
-    // part reduced by the friction, rather than d / h turned into velocity, which made the cloth
+    // Velocities follow the positions. Where the correction moved a particle by d, or where it
+    // ended the step on its contact plane, it is in contact: the velocity toward the other
+    // surface (against d, or against the plane's normal) is taken out and the tangential part
+    // reduced by the friction, rather than d / h turned into velocity, which made the cloth
     // bounce off what it lands on (measured: kinetic energy stayed at a quarter of the impact's).
-    // With hold_contacts the particle keeps the plane through its corrected position across d as a
-    // constraint of the next steps, until it has left it (lifted or slid away by
-    // release_distance).
-    const double release = o.release_distance * s.model.mean_edge;
     for (std::size_t i = 0; i < s.x.size(); ++i) {
       Vec3 vel = scale(sub(predicted[i], start[i]), 1.0 / s.h);
       const Vec3 d = sub(s.x[i], predicted[i]);
       const double length = norm(d);
-      ContactPlane& contact = s.contacts[i];
-      if (length > 0.0) {
-        if (o.hold_contacts) contact = {true, s.x[i], scale(d, 1.0 / length)};
-      } else if (contact.active) {
-        const Vec3 off = sub(s.x[i], contact.point);
-        const double above = dot(off, contact.normal);
-        if (above > release || norm(sub(off, scale(contact.normal, above))) > 4.0 * release)
-          contact.active = false;
-      }
-      if (length > 0.0 || contact.active) {
-        const Vec3 n = length > 0.0 ? scale(d, 1.0 / length) : contact.normal;
+      const std::uint32_t touching = s.touching.empty() ? 0 : s.touching[i];
+      if (length > 0.0 || touching > 0) {
+        const std::size_t planes = s.contacts.planes.size();
+        const Vec3 n = length > 0.0       ? scale(d, 1.0 / length)
+                       : touching <= planes ? s.contacts.planes[touching - 1].normal
+                                            : s.contacts.faces[touching - 1 - planes].plane.normal;
         const double toward = dot(vel, n);
         if (toward < 0.0) vel = sub(vel, scale(n, toward));
         const Vec3 tangential = sub(vel, scale(n, dot(vel, n)));

@@ -1,0 +1,194 @@
+// ContactPlanes (contact_planes.h): CGAL AABB trees over the obstacles' exposed faces (kept) and
+// over each cloth mesh (built each step where a particle of another mesh may be within reach).
+#include "sim/contact_planes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "geometry/vec3.h"
+#include "resolve/scene_measures.h"
+
+namespace untangle {
+namespace {
+
+TreeKernel::Point_3 point(const Vec3& v) { return TreeKernel::Point_3(v[0], v[1], v[2]); }
+
+struct Bounds {
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  void add(const Vec3& p) {
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], p[c]);
+      hi[c] = std::max(hi[c], p[c]);
+    }
+  }
+  // Whether p lies within `reach` of the box, coordinate by coordinate.
+  bool within(const Vec3& p, double reach) const {
+    for (int c = 0; c < 3; ++c)
+      if (p[c] < lo[c] - reach || p[c] > hi[c] + reach) return false;
+    return true;
+  }
+};
+
+// The barycentric coordinates of q (a point of triangle a, b, c) in it, clamped to [0, 1].
+Vec3 barycentric(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& q) {
+  const Vec3 e0 = sub(b, a), e1 = sub(c, a), e2 = sub(q, a);
+  const double d00 = dot(e0, e0), d01 = dot(e0, e1), d11 = dot(e1, e1);
+  const double d20 = dot(e2, e0), d21 = dot(e2, e1);
+  const double det = d00 * d11 - d01 * d01;
+  if (!(det > 0.0)) return {1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0};
+  double v = (d11 * d20 - d01 * d21) / det, w = (d00 * d21 - d01 * d20) / det;
+  v = std::clamp(v, 0.0, 1.0);
+  w = std::clamp(w, 0.0, 1.0 - v);
+  return {1.0 - v - w, v, w};
+}
+
+}  // namespace
+
+ContactPlanes::ContactPlanes(const std::vector<Mesh>& meshes, const ClothModel& model,
+                             int threads) {
+  std::vector<Mesh> obstacles;
+  for (std::uint32_t m = 0; m < meshes.size(); ++m)
+    if (meshes[m].role == Role::kObstacle) {
+      obstacle_mesh_.push_back(m);
+      obstacles.push_back(meshes[m]);
+    }
+  if (!obstacles.empty()) {
+    topo_ = build_topology(obstacles);
+    const SceneMeasures measures = measure_scene(topo_, obstacles, {}, threads);
+    for (std::uint32_t t = 0; t < topo_.tris.size(); ++t)
+      if (!measures.buried[t]) {
+        exposed_.push_back(t);
+        for (std::uint32_t v : topo_.tris[t]) exposed_vertices_.push_back(v);
+      }
+    std::sort(exposed_vertices_.begin(), exposed_vertices_.end());
+    exposed_vertices_.erase(std::unique(exposed_vertices_.begin(), exposed_vertices_.end()),
+                            exposed_vertices_.end());
+    build_obstacle_tree();
+  }
+  const std::size_t cloth_meshes = model.cloth_mesh.size();
+  cloth_triangles_.resize(cloth_meshes);
+  cloth_trees_.resize(cloth_meshes);
+}
+
+ContactPlanes::~ContactPlanes() = default;
+
+void ContactPlanes::update_obstacles(const std::vector<Mesh>& meshes) {
+  if (obstacle_mesh_.empty()) return;
+  for (std::size_t k = 0; k < obstacle_mesh_.size(); ++k) {
+    const Mesh& mesh = meshes[obstacle_mesh_[k]];
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i)
+      topo_.points[topo_.welded[k][i]] = mesh.positions[i];
+  }
+  build_obstacle_tree();
+}
+
+void ContactPlanes::build_obstacle_tree() {
+  obstacle_triangles_.clear();
+  obstacle_tree_.reset();
+  std::fill(lower_.begin(), lower_.end(), INFINITY);
+  for (std::uint32_t t : exposed_) {
+    const auto& tri = topo_.tris[t];
+    obstacle_triangles_.emplace_back(point(topo_.points[tri[0]]), point(topo_.points[tri[1]]),
+                                     point(topo_.points[tri[2]]));
+  }
+  if (obstacle_triangles_.empty()) return;
+  obstacle_tree_ =
+      std::make_unique<TriangleTree>(obstacle_triangles_.begin(), obstacle_triangles_.end());
+  obstacle_tree_->accelerate_distance_queries();
+}
+
+void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, double reach,
+                         double clearance, ContactSet& out) {
+  const std::size_t n = x.size();
+  const SceneTopology& cloth = model.topo;
+  const std::size_t meshes = cloth_trees_.size();
+  out.begin.assign(n + 1, 0);
+  out.planes.clear();
+  if (lower_.size() != n) {
+    lower_.assign(n, INFINITY);
+    at_.assign(n, Vec3{0.0, 0.0, 0.0});
+  }
+  // Which cloth meshes need a tree this step: those with another mesh's particle within reach of
+  // their bounds.
+  std::vector<Bounds> bounds(meshes);
+  for (std::size_t i = 0; i < n; ++i) bounds[cloth.vertex_mesh[i]].add(x[i]);
+  std::vector<std::uint8_t> needed(meshes, 0);
+  // The obstacles' vertices are tested against the cloth's faces (face planes).
+  std::vector<std::uint32_t> near_vertices;
+  for (std::uint32_t v : exposed_vertices_) {
+    bool near = false;
+    for (std::size_t b = 0; b < meshes; ++b)
+      if (bounds[b].within(topo_.points[v], reach)) {
+        needed[b] = 1;
+        near = true;
+      }
+    if (near) near_vertices.push_back(v);
+  }
+  if (meshes > 1)
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t b = 0; b < meshes; ++b)
+        if (b != cloth.vertex_mesh[i] && !needed[b] && bounds[b].within(x[i], reach)) needed[b] = 1;
+  for (std::size_t b = 0; b < meshes; ++b) {
+    cloth_trees_[b].reset();
+    cloth_triangles_[b].clear();
+    if (!needed[b]) continue;
+    for (std::uint32_t t = cloth.mesh_tri_begin[b]; t < cloth.mesh_tri_begin[b + 1]; ++t) {
+      const auto& tri = cloth.tris[t];
+      cloth_triangles_[b].emplace_back(point(x[tri[0]]), point(x[tri[1]]), point(x[tri[2]]));
+    }
+    if (cloth_triangles_[b].empty()) continue;
+    cloth_trees_[b] =
+        std::make_unique<TriangleTree>(cloth_triangles_[b].begin(), cloth_triangles_[b].end());
+    cloth_trees_[b]->accelerate_distance_queries();
+  }
+  auto plane = [&](const Vec3& p, const Vec3& q, bool both_move) {
+    const Vec3 off = sub(p, q);
+    const double d = norm(off);
+    if (!(d > 0.0) || d > reach) return;
+    const Vec3 normal = scale(off, 1.0 / d);
+    const double offset = both_move ? (d > clearance ? 0.5 * (d + clearance) : d)
+                                    : std::min(clearance, d);
+    out.planes.push_back({add(q, scale(normal, offset)), normal});
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    out.begin[i] = static_cast<std::uint32_t>(out.planes.size());
+    if (model.unknown[i] == kNone) continue;
+    // The obstacles: the distance measured last, less the way moved since, is a lower bound of
+    // the distance now; only a particle that may be within reach is measured again.
+    if (obstacle_tree_ && !(std::isfinite(lower_[i]) && lower_[i] - norm(sub(x[i], at_[i])) > reach)) {
+      const auto c = obstacle_tree_->closest_point(point(x[i]));
+      const Vec3 q{c.x(), c.y(), c.z()};
+      lower_[i] = norm(sub(x[i], q));
+      at_[i] = x[i];
+      plane(x[i], q, false);
+    }
+    for (std::size_t b = 0; b < meshes; ++b) {
+      if (!cloth_trees_[b] || b == cloth.vertex_mesh[i] || !bounds[b].within(x[i], reach)) continue;
+      const auto c = cloth_trees_[b]->closest_point(point(x[i]));
+      plane(x[i], Vec3{c.x(), c.y(), c.z()}, true);
+    }
+  }
+  out.begin[n] = static_cast<std::uint32_t>(out.planes.size());
+  out.faces.clear();
+  for (std::uint32_t v : near_vertices) {
+    const Vec3& p = topo_.points[v];
+    for (std::size_t b = 0; b < meshes; ++b) {
+      if (!cloth_trees_[b] || !bounds[b].within(p, reach)) continue;
+      const auto hit = cloth_trees_[b]->closest_point_and_primitive(point(p));
+      const Vec3 q{hit.first.x(), hit.first.y(), hit.first.z()};
+      const Vec3 off = sub(q, p);
+      const double d = norm(off);
+      if (!(d > 0.0) || d > reach) continue;
+      const std::uint32_t t = cloth.mesh_tri_begin[b] +
+                              static_cast<std::uint32_t>(hit.second - cloth_triangles_[b].begin());
+      FacePlane face;
+      face.corner = cloth.tris[t];
+      face.weight = barycentric(x[face.corner[0]], x[face.corner[1]], x[face.corner[2]], q);
+      face.plane.normal = scale(off, 1.0 / d);
+      face.plane.point = add(p, scale(face.plane.normal, std::min(clearance, d)));
+      out.faces.push_back(face);
+    }
+  }
+}
+
+}  // namespace untangle

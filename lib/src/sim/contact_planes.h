@@ -1,0 +1,58 @@
+// Contact inside the integrator: at the start of every step, each cloth particle within reach of
+// an obstacle or of another cloth mesh gets, per such mesh, the tangent plane at its closest point
+// there as a one-sided constraint of that step's solve (cloth_model.h, integrate_step). The planes
+// are made fresh every step, so they follow the cloth as it wraps round and as the sheets below
+// it move; resting contact then holds without the correction having to undo every step's push
+// into what the cloth lies on. What slips between the planes (an edge over a spike's tip, a fold
+// of a sheet onto itself) is the correction's, as before.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "resolve/triangle_tree.h"
+#include "sim/cloth_model.h"
+#include "topology/scene_topology.h"
+#include "untangle/mesh.h"
+
+namespace untangle {
+
+class ContactPlanes {
+ public:
+  // The obstacles of `meshes` (their exposed faces: a buried face of an obstacle that passes
+  // through itself, like the cow's tail through its rump, is inside it and gives no plane) and
+  // the cloth of `model`.
+  ContactPlanes(const std::vector<Mesh>& meshes, const ClothModel& model, int threads);
+  ~ContactPlanes();
+  // The obstacles moved (a schedule): the same faces at their new positions.
+  void update_obstacles(const std::vector<Mesh>& meshes);
+  // The planes of this step, for particles at `x`, within `reach` (scene units) of a surface:
+  //  - an obstacle's plane lies `clearance` out from the closest point (never farther than the
+  //    particle is now), so the particle may come up to the clearance but not nearer;
+  //  - another cloth mesh moves too, so each side may close half of the gap beyond the clearance:
+  //    the plane lies (d + clearance) / 2 out for a particle d away (d, if d is under the
+  //    clearance), and the two sides' planes keep them apart;
+  //  - an obstacle's vertex within reach of a cloth face gives that face's closest point a plane
+  //    `clearance` out from the vertex (a face plane: a spike's tip under the cloth).
+  void make(const ClothModel& model, const std::vector<Vec3>& x, double reach, double clearance,
+            ContactSet& out);
+
+ private:
+  void build_obstacle_tree();
+
+  // Obstacles.
+  std::vector<std::uint32_t> obstacle_mesh_;  // scene index of each obstacle mesh of topo_
+  SceneTopology topo_;                        // of the obstacles alone
+  std::vector<std::uint32_t> exposed_;        // triangles of topo_ that are not buried
+  std::vector<std::uint32_t> exposed_vertices_;  // their corners
+  TreeTriangleList obstacle_triangles_;
+  std::unique_ptr<TriangleTree> obstacle_tree_;
+  std::vector<double> lower_;  // per particle: obstacle distance measured at at_, or INFINITY
+  std::vector<Vec3> at_;
+  // Cloth meshes of the model (topology meshes), their triangles and trees of this step.
+  std::vector<TreeTriangleList> cloth_triangles_;
+  std::vector<std::unique_ptr<TriangleTree>> cloth_trees_;
+};
+
+}  // namespace untangle
