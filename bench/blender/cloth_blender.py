@@ -4,13 +4,20 @@
 #   blender -b --factory-startup -t 1 --python cloth_blender.py -- \
 #       --frames N --out DIR --cloth A.obj [--cloth B.obj ...] [--obstacle C.obj ...] \
 #       [--quality 4] [--collision-quality 2] [--time-scale S] [--self-distance D]
+#       [--set NAME=VALUE ...] [--collision-set NAME=VALUE ...]
+#
+# --set and --collision-set change any number of the Cloth modifier's settings
+# (bpy.types.ClothSettings, e.g. mass=0.01, tension_stiffness=80) or collision settings
+# (bpy.types.ClothCollisionSettings, e.g. distance_min=0.005); the rest are Blender's defaults.
 #
 # The OBJ files are read by the small parser below, not by Blender's importer, so that the
 # vertices keep their file order (the importer may split or reorder them): a mesh is built with
 # from_pydata, vertex k of the file is vertex k in Blender. Coordinates: the files are y-up
 # (untangle's examples, gravity -9.81 in y); Blender is z-up, so (x, y, z) -> (x, -z, y) on the
 # way in and back on the way out. Each --cloth mesh gets a Cloth modifier (collision with
-# obstacles and self-collision on), each --obstacle a Collision modifier. Frame 1 is the start;
+# obstacles and self-collision on), each --obstacle a Collision modifier, and with several cloth
+# meshes each cloth also a Collision modifier after its Cloth modifier (how Blender makes cloth
+# collide with cloth). Frame 1 is the start;
 # frames 2 .. N + 1 are simulated one by one with scene.frame_set, each timed with
 # time.perf_counter. The cloth's last frame is written to DIR/<stem>.obj: the input file with its
 # `v` lines replaced in order, everything else as it was. DIR/blender_timing.json holds the
@@ -33,7 +40,8 @@ import bpy
 
 def parse_args(argv):
     args = {"cloth": [], "obstacle": [], "frames": 60, "out": None, "quality": 4,
-            "collision_quality": 2, "time_scale": None, "self_distance": None}
+            "collision_quality": 2, "time_scale": None, "self_distance": None, "set": [],
+            "collision_set": []}
     i = 0
     while i < len(argv):
         key = argv[i]
@@ -56,6 +64,10 @@ def parse_args(argv):
             args["time_scale"] = float(value)
         elif key == "--self-distance":
             args["self_distance"] = float(value)
+        elif key in ("--set", "--collision-set"):
+            if "=" not in value:
+                sys.exit("cloth_blender.py: " + key + " takes NAME=VALUE")
+            args[key[2:].replace("-", "_")].append(value.split("=", 1))
         else:
             sys.exit("cloth_blender.py: unknown option " + key)
         i += 2
@@ -107,7 +119,20 @@ def mean_edge(verts, faces):
     return total / count if count else 0.0
 
 
-def add_cloth(obj, frames, quality, collision_quality, time_scale, self_distance):
+def assign(target, name, text):
+    """Sets target.name from text, converted to the type the property already has."""
+    if not hasattr(target, name):
+        sys.exit("cloth_blender.py: Blender has no setting " + name)
+    old = getattr(target, name)
+    if isinstance(old, bool):
+        value = text.lower() in ("1", "true", "yes", "on")
+    else:
+        value = type(old)(text)
+    setattr(target, name, value)
+
+
+def add_cloth(obj, frames, quality, collision_quality, time_scale, self_distance, sets=(),
+              collision_sets=()):
     mod = obj.modifiers.new("Cloth", "CLOTH")
     s = mod.settings
     s.quality = quality
@@ -118,6 +143,10 @@ def add_cloth(obj, frames, quality, collision_quality, time_scale, self_distance
     c.collision_quality = collision_quality
     if self_distance is not None:
         c.self_distance_min = self_distance
+    for name, text in sets:
+        assign(s, name, text)
+    for name, text in collision_sets:
+        assign(c, name, text)
     mod.point_cache.frame_start = 1
     mod.point_cache.frame_end = frames + 1
     return mod
@@ -193,7 +222,12 @@ def main():
     if self_distance is None:
         self_distance = min(0.015, 0.5 * min(edges))
     mods = [add_cloth(obj, frames, args["quality"], args["collision_quality"], time_scale,
-                      self_distance) for _, obj in cloth]
+                      self_distance, args["set"], args["collision_set"]) for _, obj in cloth]
+    # Cloth against cloth: in Blender a cloth collides with another only when that one also
+    # carries a Collision modifier (after its Cloth modifier, so that it collides as deformed).
+    if len(cloth) > 1:
+        for _, obj in cloth:
+            obj.modifiers.new("Collision", "COLLISION")
     scene.frame_start, scene.frame_end = 1, frames + 1
     scene.frame_set(1)
     frame_ms = []
@@ -223,7 +257,8 @@ def main():
     settings = {
         "blender": bpy.app.version_string, "frames": frames, "fps": scene.render.fps, "gravity": tuple(scene.gravity),
         "quality": m.settings.quality, "time_scale": m.settings.time_scale,
-        "calibration": calibration, "mass": m.settings.mass,
+        "calibration": calibration, "set": args["set"], "collision_set": args["collision_set"],
+        "mass": m.settings.mass,
         "tension_stiffness": m.settings.tension_stiffness,
         "compression_stiffness": m.settings.compression_stiffness,
         "shear_stiffness": m.settings.shear_stiffness,
@@ -233,8 +268,10 @@ def main():
         "distance_min": m.collision_settings.distance_min,
         "self_distance_min": m.collision_settings.self_distance_min,
         "self_friction": m.collision_settings.self_friction,
-        "obstacle_thickness_outer": [o.collision.thickness_outer for o in bpy.data.objects
-                                     if o.collision and o.modifiers.get("Collision")],
+        "collision_thickness_outer": {o.name: o.collision.thickness_outer
+                                      for o in bpy.data.objects if o.modifiers.get("Collision")},
+        "collision_cloth_friction": {o.name: o.collision.cloth_friction
+                                     for o in bpy.data.objects if o.modifiers.get("Collision")},
         "mean_edge": edges,
     }
     with open(os.path.join(args["out"], "blender_timing.json"), "w") as f:
