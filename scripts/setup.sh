@@ -39,6 +39,12 @@ if [[ "${UNTANGLE_WITH_BROWSER:-0}" == "1" || "${UNTANGLE_BROWSER_TEST:-0}" == "
     python3           # check_page.py speaks the DevTools protocol to chromium
   )
 fi
+# The Blender comparison (bench/blender/cloth_vs_blender.sh), a benchmark never run by CI.
+if [[ "${UNTANGLE_WITH_BLENDER:-0}" == "1" ]]; then
+  packages+=(
+    blender           # Blender's cloth against untangle simulate (docs/CONTRIBUTING.md)
+  )
+fi
 
 sudo_cmd=()
 if [[ "$(id -u)" -ne 0 ]]; then
