@@ -11,6 +11,12 @@
 namespace untangle {
 namespace {
 
+// The angle defect (radians) beyond which a convex obstacle vertex is a tip: about 57 degrees.
+// Measured: 74 of the MakeHuman male body's 13,652 vertices have a defect beyond 0.5 (median 0,
+// 99th percentile 0.42), 101 of the cow's 2,903 (horns, hooves, ears), 24 of the spikes' 1,842
+// (the 16 tips among them, at 3.8).
+constexpr double kTip = 1.0;
+
 TreeKernel::Point_3 point(const Vec3& v) { return TreeKernel::Point_3(v[0], v[1], v[2]); }
 
 struct Bounds {
@@ -55,14 +61,38 @@ ContactPlanes::ContactPlanes(const std::vector<Mesh>& meshes, const ClothModel& 
   if (!obstacles.empty()) {
     topo_ = build_topology(obstacles);
     const SceneMeasures measures = measure_scene(topo_, obstacles, {}, threads);
+    // Face planes come from the convex vertices (a positive angle defect: the faces round the
+    // vertex leave part of the full angle), where the obstacle pokes out between the cloth's
+    // particles. Measured on the fitting example, with planes from every vertex facing from the
+    // vertex to the face, edges reached 4x within 23 frames (a growing body puts faces behind
+    // vertices, and the directions fought the particles' planes); hence the outward side and the
+    // normal.
+    std::vector<double> angle(topo_.points.size(), 0.0);
+    std::vector<std::uint8_t> used(topo_.points.size(), 0);
     for (std::uint32_t t = 0; t < topo_.tris.size(); ++t)
       if (!measures.buried[t]) {
         exposed_.push_back(t);
-        for (std::uint32_t v : topo_.tris[t]) exposed_vertices_.push_back(v);
+        outward_.push_back(static_cast<std::int8_t>(measures.closed[topo_.tri_component(t)] *
+                                                    measures.orientation[t]));
+        const auto& tri = topo_.tris[t];
+        for (int k = 0; k < 3; ++k) {
+          const Vec3& a = topo_.points[tri[k]];
+          const Vec3 u = sub(topo_.points[tri[(k + 1) % 3]], a);
+          const Vec3 w = sub(topo_.points[tri[(k + 2) % 3]], a);
+          angle[tri[k]] += std::atan2(norm(cross(u, w)), dot(u, w));
+          used[tri[k]] = 1;
+        }
       }
-    std::sort(exposed_vertices_.begin(), exposed_vertices_.end());
-    exposed_vertices_.erase(std::unique(exposed_vertices_.begin(), exposed_vertices_.end()),
-                            exposed_vertices_.end());
+    for (std::uint32_t v = 0; v < topo_.points.size(); ++v)
+      if (used[v] && 2.0 * M_PI - angle[v] > 0.0) {
+        exposed_vertices_.push_back(v);
+        tip_.push_back(2.0 * M_PI - angle[v] > kTip ? 1 : 0);
+      }
+    // Whether the outward side of every exposed face round each sharp vertex is known.
+    known_.assign(topo_.points.size(), 1);
+    for (std::size_t k = 0; k < exposed_.size(); ++k)
+      if (outward_[k] == 0)
+        for (std::uint32_t v : topo_.tris[exposed_[k]]) known_[v] = 0;
     build_obstacle_tree();
   }
   const std::size_t cloth_meshes = model.cloth_mesh.size();
@@ -86,6 +116,22 @@ void ContactPlanes::build_obstacle_tree() {
   obstacle_triangles_.clear();
   obstacle_tree_.reset();
   std::fill(lower_.begin(), lower_.end(), INFINITY);
+  vertex_lower_.assign(exposed_vertices_.size(), -INFINITY);
+  // Outward normals of the sharp vertices (their exposed faces' area vectors, each turned to its
+  // outward side), at the obstacles' positions now.
+  std::vector<Vec3> sum(topo_.points.size(), Vec3{0.0, 0.0, 0.0});
+  for (std::size_t k = 0; k < exposed_.size(); ++k) {
+    const auto& tri = topo_.tris[exposed_[k]];
+    const Vec3 area = scale(cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
+                                  sub(topo_.points[tri[2]], topo_.points[tri[0]])),
+                            static_cast<double>(outward_[k]));
+    for (std::uint32_t v : tri) sum[v] = add(sum[v], area);
+  }
+  vertex_outward_.resize(exposed_vertices_.size());
+  for (std::size_t k = 0; k < exposed_vertices_.size(); ++k)
+    vertex_outward_[k] = known_[exposed_vertices_[k]] ? sum[exposed_vertices_[k]]
+                                                      : Vec3{0.0, 0.0, 0.0};
+  vertex_travel_.assign(exposed_vertices_.size(), 0.0);
   for (std::uint32_t t : exposed_) {
     const auto& tri = topo_.tris[t];
     obstacle_triangles_.emplace_back(point(topo_.points[tri[0]]), point(topo_.points[tri[1]]),
@@ -113,16 +159,27 @@ void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, do
   std::vector<Bounds> bounds(meshes);
   for (std::size_t i = 0; i < n; ++i) bounds[cloth.vertex_mesh[i]].add(x[i]);
   std::vector<std::uint8_t> needed(meshes, 0);
-  // The obstacles' vertices are tested against the cloth's faces (face planes).
-  std::vector<std::uint32_t> near_vertices;
-  for (std::uint32_t v : exposed_vertices_) {
+  // How far the cloth may have moved since the last call: the largest particle step, summed.
+  if (last_x_.size() == n) {
+    double most = 0.0;
+    for (std::size_t i = 0; i < n; ++i) most = std::max(most, norm(sub(x[i], last_x_[i])));
+    travel_ += most;
+  }
+  last_x_ = x;
+  // The obstacles' vertices are tested against the cloth's faces (face planes); a vertex whose
+  // distance to the cloth, measured earlier, less how far the cloth may have moved since, is
+  // beyond reach is not measured again.
+  std::vector<std::uint32_t> near_vertices;  // entries of exposed_vertices_
+  for (std::uint32_t k = 0; k < exposed_vertices_.size(); ++k) {
+    if (vertex_lower_[k] - (travel_ - vertex_travel_[k]) > reach) continue;
+    const Vec3& p = topo_.points[exposed_vertices_[k]];
     bool near = false;
     for (std::size_t b = 0; b < meshes; ++b)
-      if (bounds[b].within(topo_.points[v], reach)) {
+      if (bounds[b].within(p, reach)) {
         needed[b] = 1;
         near = true;
       }
-    if (near) near_vertices.push_back(v);
+    if (near) near_vertices.push_back(k);
   }
   if (meshes > 1)
     for (std::size_t i = 0; i < n; ++i)
@@ -155,12 +212,21 @@ void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, do
     if (model.unknown[i] == kNone) continue;
     // The obstacles: the distance measured last, less the way moved since, is a lower bound of
     // the distance now; only a particle that may be within reach is measured again.
-    if (obstacle_tree_ && !(std::isfinite(lower_[i]) && lower_[i] - norm(sub(x[i], at_[i])) > reach)) {
-      const auto c = obstacle_tree_->closest_point(point(x[i]));
-      const Vec3 q{c.x(), c.y(), c.z()};
+    if (obstacle_tree_ &&
+        !(std::isfinite(lower_[i]) && lower_[i] - norm(sub(x[i], at_[i])) > reach)) {
+      const auto hit = obstacle_tree_->closest_point_and_primitive(point(x[i]));
+      const Vec3 q{hit.first.x(), hit.first.y(), hit.first.z()};
       lower_[i] = norm(sub(x[i], q));
       at_[i] = x[i];
-      plane(x[i], q, false);
+      // A particle behind the outer side of a closed obstacle's nearest face is inside it (the
+      // body grew over it, or a correction failed): a plane there would hold it inside, so it
+      // gets none and is left to the correction.
+      const std::size_t k = static_cast<std::size_t>(hit.second - obstacle_triangles_.begin());
+      const auto& tri = topo_.tris[exposed_[k]];
+      const Vec3 normal = cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
+                                sub(topo_.points[tri[2]], topo_.points[tri[0]]));
+      if (!(outward_[k] != 0 && outward_[k] * dot(sub(x[i], q), normal) < 0.0))
+        plane(x[i], q, false);
     }
     for (std::size_t b = 0; b < meshes; ++b) {
       if (!cloth_trees_[b] || b == cloth.vertex_mesh[i] || !bounds[b].within(x[i], reach)) continue;
@@ -170,23 +236,40 @@ void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, do
   }
   out.begin[n] = static_cast<std::uint32_t>(out.planes.size());
   out.faces.clear();
-  for (std::uint32_t v : near_vertices) {
-    const Vec3& p = topo_.points[v];
+  for (std::uint32_t k : near_vertices) {
+    const Vec3& p = topo_.points[exposed_vertices_[k]];
+    double nearest = INFINITY;
     for (std::size_t b = 0; b < meshes; ++b) {
       if (!cloth_trees_[b] || !bounds[b].within(p, reach)) continue;
       const auto hit = cloth_trees_[b]->closest_point_and_primitive(point(p));
       const Vec3 q{hit.first.x(), hit.first.y(), hit.first.z()};
       const Vec3 off = sub(q, p);
       const double d = norm(off);
+      nearest = std::min(nearest, d);
       if (!(d > 0.0) || d > reach) continue;
+      // The plane faces along the vertex's outward normal (where its faces' outward sides are
+      // known; the direction to the face otherwise), the direction the particles' own planes
+      // push in too. A face behind the vertex's outward side is inside the obstacle (the body
+      // grew over it): a plane would push it further in; it is left to the correction.
+      const Vec3& outward = vertex_outward_[k];
+      const double outward_length = norm(outward);
+      if (outward_length > 0.0 && !(dot(off, outward) > 0.0)) continue;
+      const Vec3 normal = outward_length > 0.0 && !tip_[k] ? scale(outward, 1.0 / outward_length)
+                                                           : scale(off, 1.0 / d);
+      const double height = dot(off, normal);
+      if (!(height > 0.0)) continue;
       const std::uint32_t t = cloth.mesh_tri_begin[b] +
                               static_cast<std::uint32_t>(hit.second - cloth_triangles_[b].begin());
       FacePlane face;
       face.corner = cloth.tris[t];
       face.weight = barycentric(x[face.corner[0]], x[face.corner[1]], x[face.corner[2]], q);
-      face.plane.normal = scale(off, 1.0 / d);
-      face.plane.point = add(p, scale(face.plane.normal, std::min(clearance, d)));
+      face.plane.normal = normal;
+      face.plane.point = add(p, scale(normal, std::min(clearance, height)));
       out.faces.push_back(face);
+    }
+    if (std::isfinite(nearest)) {
+      vertex_lower_[k] = nearest;
+      vertex_travel_[k] = travel_;
     }
   }
 }

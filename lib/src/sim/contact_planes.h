@@ -33,8 +33,10 @@ class ContactPlanes {
   //  - another cloth mesh moves too, so each side may close half of the gap beyond the clearance:
   //    the plane lies (d + clearance) / 2 out for a particle d away (d, if d is under the
   //    clearance), and the two sides' planes keep them apart;
-  //  - an obstacle's vertex within reach of a cloth face gives that face's closest point a plane
-  //    `clearance` out from the vertex (a face plane: a spike's tip under the cloth).
+  //  - a convex obstacle vertex within reach of a cloth face gives that face's closest point a
+  //    plane `clearance` out from the vertex (a face plane: a vertex of a coarse ball, a spike's
+  //    tip under the cloth), facing along the vertex's outward normal, or, at a tip (an angle
+  //    defect beyond about 57 degrees), along the direction from the vertex to the face.
   void make(const ClothModel& model, const std::vector<Vec3>& x, double reach, double clearance,
             ContactSet& out);
 
@@ -45,7 +47,17 @@ class ContactPlanes {
   std::vector<std::uint32_t> obstacle_mesh_;  // scene index of each obstacle mesh of topo_
   SceneTopology topo_;                        // of the obstacles alone
   std::vector<std::uint32_t> exposed_;        // triangles of topo_ that are not buried
-  std::vector<std::uint32_t> exposed_vertices_;  // their corners
+  std::vector<std::int8_t> outward_;  // per entry of exposed_: +1 or -1 the outward side of a
+                                      // closed component's face, 0 (not closed) unknown
+  std::vector<std::uint32_t> exposed_vertices_;  // their convex corners (face planes)
+  std::vector<std::uint8_t> tip_;                // per entry: a tip (angle defect beyond kTip)
+  std::vector<std::uint8_t> known_;   // per vertex of topo_: its faces' outward sides all known
+  std::vector<Vec3> vertex_outward_;  // per entry of exposed_vertices_ (0: unknown)
+  // Per entry of exposed_vertices_: its distance to the cloth when last measured (-INFINITY not
+  // yet) and travel_ then; travel_ sums the cloth's largest particle step from call to call.
+  std::vector<double> vertex_lower_, vertex_travel_;
+  double travel_ = 0.0;
+  std::vector<Vec3> last_x_;
   TreeTriangleList obstacle_triangles_;
   std::unique_ptr<TriangleTree> obstacle_tree_;
   std::vector<double> lower_;  // per particle: obstacle distance measured at at_, or INFINITY
