@@ -107,33 +107,23 @@ TEST(Simulate, WithoutTheCorrectionTheSheetFallsThrough) {
 
 // Contact planes in the solve (ClothOptions::contacts) hold resting cloth up by themselves, so the
 // correction finds far fewer crossings after each step than when every step's push into the
-// obstacle is left to it: on the ball (particles' planes) and on the spikes (face planes: a tip
-// meets the sheet between its particles). Every frame still ends clean either way.
+// obstacle is left to it (on the ball, whose vertices poke out between the sheet's particles, the
+// face planes do most of it). Every frame still ends clean either way.
 TEST(Simulate, ContactPlanesLeaveTheCorrectionLessToDo) {
-  struct Case {
-    SimulationScene (*make)();
-    int frames;
-  };
-  const Case cases[] = {
-      {[] { return sheet_over_ball(true); }, 30},
-      {[] { return scenes::simulation_example("spikes", 25); }, 16},
-  };
-  for (const Case& c : cases) {
-    std::size_t found[2] = {0, 0};
-    for (int contacts = 0; contacts < 2; ++contacts) {
-      SimulationScene scene = c.make();
-      scene.options.contacts = contacts == 1;
-      Simulation sim(std::move(scene));
-      for (int f = 0; f < c.frames; ++f) {
-        const FrameRecord r = sim.advance();
-        ASSERT_EQ(r.uncorrected_steps, 0) << "frame " << r.frame;
-        ASSERT_EQ(crossings_with_obstacles(sim.meshes()), 0u) << "frame " << r.frame;
-        found[contacts] += r.crossings_before;
-      }
+  std::size_t found[2] = {0, 0};
+  for (int contacts = 0; contacts < 2; ++contacts) {
+    SimulationScene scene = sheet_over_ball(true);
+    scene.options.contacts = contacts == 1;
+    Simulation sim(std::move(scene));
+    for (int f = 0; f < 30; ++f) {
+      const FrameRecord r = sim.advance();
+      ASSERT_EQ(r.uncorrected_steps, 0) << "frame " << r.frame;
+      ASSERT_EQ(crossings_with_obstacles(sim.meshes()), 0u) << "frame " << r.frame;
+      found[contacts] += r.crossings_before;
     }
-    EXPECT_GT(found[0], 0u) << "the scene never comes into contact";
-    EXPECT_LT(2 * found[1], found[0]) << "with planes " << found[1] << ", without " << found[0];
   }
+  EXPECT_GT(found[0], 0u) << "the sheet never comes into contact";
+  EXPECT_LT(10 * found[1], found[0]) << "with planes " << found[1] << ", without " << found[0];
 }
 
 // The full example scenes (81 x 81 sheets, the paper's sizes and frame counts) run only with
@@ -261,7 +251,8 @@ TEST(Simulate, FittingReportsWhatIsLeft) {
 // The MakeHuman garment on its body, which grows back from 0.97 over 20 frames: every frame
 // clean, and at the end no garment vertex inside the body (by its winding number), the garment
 // still on it: its lowest and highest points within a tenth of the body's height of where they
-// started. Not met yet (docs/PERFORMANCE.md): run with UNTANGLE_FULL_SIMULATION=1.
+// started. Met (about 50 s in Release, so behind UNTANGLE_FULL_SIMULATION=1 with the other full
+// scenes; docs/PERFORMANCE.md).
 TEST(Simulate, GarmentSettlesOnTheGrowingBody) {
   if (!full_scenes()) GTEST_SKIP() << "the full fitting runs with UNTANGLE_FULL_SIMULATION=1";
   SimulationScene scene = scenes::simulation_example("fitting");

@@ -11,10 +11,13 @@
 namespace untangle {
 namespace {
 
-// The angle defect (radians) beyond which a convex obstacle vertex is a tip: about 57 degrees.
-// Measured: 74 of the MakeHuman male body's 13,652 vertices have a defect beyond 0.5 (median 0,
-// 99th percentile 0.42), 101 of the cow's 2,903 (horns, hooves, ears), 24 of the spikes' 1,842
-// (the 16 tips among them, at 3.8).
+// The angle defect (radians) beyond which a convex obstacle vertex is a tip, which gets no face
+// plane: about 57 degrees. A sheet held on a spike's tip by a face plane stretched round it
+// (edges beyond 2x at frame 36 of the spikes example, measured) where the correction and its
+// relaxation spread the same load over rings of the sheet (1.27 at frame 40), so tips are left to
+// the correction. Measured: 74 of the MakeHuman male body's 13,652 vertices have a defect beyond
+// 0.5 (median 0, 99th percentile 0.42), 101 of the cow's 2,903 (horns, hooves, ears), 24 of the
+// spikes' 1,842 (the 16 tips among them, at 3.8).
 constexpr double kTip = 1.0;
 
 TreeKernel::Point_3 point(const Vec3& v) { return TreeKernel::Point_3(v[0], v[1], v[2]); }
@@ -62,11 +65,11 @@ ContactPlanes::ContactPlanes(const std::vector<Mesh>& meshes, const ClothModel& 
     topo_ = build_topology(obstacles);
     const SceneMeasures measures = measure_scene(topo_, obstacles, {}, threads);
     // Face planes come from the convex vertices (a positive angle defect: the faces round the
-    // vertex leave part of the full angle), where the obstacle pokes out between the cloth's
-    // particles. Measured on the fitting example, with planes from every vertex facing from the
-    // vertex to the face, edges reached 4x within 23 frames (a growing body puts faces behind
-    // vertices, and the directions fought the particles' planes); hence the outward side and the
-    // normal.
+    // vertex leave part of the full angle) that are not tips (kTip), where the obstacle pokes out
+    // between the cloth's particles: a coarse ball's vertices. Measured on the fitting example,
+    // with planes from every vertex facing from the vertex to the face, edges reached 4x within
+    // 23 frames (a growing body puts faces behind vertices, and the directions fought the
+    // particles' planes); hence the outward side and the normal.
     std::vector<double> angle(topo_.points.size(), 0.0);
     std::vector<std::uint8_t> used(topo_.points.size(), 0);
     for (std::uint32_t t = 0; t < topo_.tris.size(); ++t)
@@ -84,10 +87,8 @@ ContactPlanes::ContactPlanes(const std::vector<Mesh>& meshes, const ClothModel& 
         }
       }
     for (std::uint32_t v = 0; v < topo_.points.size(); ++v)
-      if (used[v] && 2.0 * M_PI - angle[v] > 0.0) {
+      if (used[v] && 2.0 * M_PI - angle[v] > 0.0 && 2.0 * M_PI - angle[v] <= kTip)
         exposed_vertices_.push_back(v);
-        tip_.push_back(2.0 * M_PI - angle[v] > kTip ? 1 : 0);
-      }
     // Whether the outward side of every exposed face round each sharp vertex is known.
     known_.assign(topo_.points.size(), 1);
     for (std::size_t k = 0; k < exposed_.size(); ++k)
@@ -254,8 +255,8 @@ void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, do
       const Vec3& outward = vertex_outward_[k];
       const double outward_length = norm(outward);
       if (outward_length > 0.0 && !(dot(off, outward) > 0.0)) continue;
-      const Vec3 normal = outward_length > 0.0 && !tip_[k] ? scale(outward, 1.0 / outward_length)
-                                                           : scale(off, 1.0 / d);
+      const Vec3 normal =
+          outward_length > 0.0 ? scale(outward, 1.0 / outward_length) : scale(off, 1.0 / d);
       const double height = dot(off, normal);
       if (!(height > 0.0)) continue;
       const std::uint32_t t = cloth.mesh_tri_begin[b] +

@@ -34,9 +34,9 @@ class ContactPlanes {
   //    the plane lies (d + clearance) / 2 out for a particle d away (d, if d is under the
   //    clearance), and the two sides' planes keep them apart;
   //  - a convex obstacle vertex within reach of a cloth face gives that face's closest point a
-  //    plane `clearance` out from the vertex (a face plane: a vertex of a coarse ball, a spike's
-  //    tip under the cloth), facing along the vertex's outward normal, or, at a tip (an angle
-  //    defect beyond about 57 degrees), along the direction from the vertex to the face.
+  //    plane `clearance` out from the vertex along the vertex's outward normal (a face plane: a
+  //    coarse ball's vertices poke out between the cloth's particles). A tip (an angle defect
+  //    beyond about 57 degrees: a spike's) gets none; the correction handles it.
   void make(const ClothModel& model, const std::vector<Vec3>& x, double reach, double clearance,
             ContactSet& out);
 
@@ -49,8 +49,7 @@ class ContactPlanes {
   std::vector<std::uint32_t> exposed_;        // triangles of topo_ that are not buried
   std::vector<std::int8_t> outward_;  // per entry of exposed_: +1 or -1 the outward side of a
                                       // closed component's face, 0 (not closed) unknown
-  std::vector<std::uint32_t> exposed_vertices_;  // their convex corners (face planes)
-  std::vector<std::uint8_t> tip_;                // per entry: a tip (angle defect beyond kTip)
+  std::vector<std::uint32_t> exposed_vertices_;  // their convex corners but tips (face planes)
   std::vector<std::uint8_t> known_;   // per vertex of topo_: its faces' outward sides all known
   std::vector<Vec3> vertex_outward_;  // per entry of exposed_vertices_ (0: unknown)
   // Per entry of exposed_vertices_: its distance to the cloth when last measured (-INFINITY not
