@@ -89,7 +89,7 @@ ContactPlanes::ContactPlanes(const std::vector<Mesh>& meshes, const ClothModel& 
     for (std::uint32_t v = 0; v < topo_.points.size(); ++v)
       if (used[v] && 2.0 * M_PI - angle[v] > 0.0 && 2.0 * M_PI - angle[v] <= kTip)
         exposed_vertices_.push_back(v);
-    // Whether the outward side of every exposed face round each sharp vertex is known.
+    // Whether the outward side of every exposed face round each vertex is known.
     known_.assign(topo_.points.size(), 1);
     for (std::size_t k = 0; k < exposed_.size(); ++k)
       if (outward_[k] == 0)
@@ -118,7 +118,7 @@ void ContactPlanes::build_obstacle_tree() {
   obstacle_tree_.reset();
   std::fill(lower_.begin(), lower_.end(), INFINITY);
   vertex_lower_.assign(exposed_vertices_.size(), -INFINITY);
-  // Outward normals of the sharp vertices (their exposed faces' area vectors, each turned to its
+  // Outward normals of the convex vertices (their exposed faces' area vectors, each turned to its
   // outward side), at the obstacles' positions now.
   std::vector<Vec3> sum(topo_.points.size(), Vec3{0.0, 0.0, 0.0});
   for (std::size_t k = 0; k < exposed_.size(); ++k) {
