@@ -408,6 +408,29 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
                        testing::quote(dir.file("o2")));
   EXPECT_EQ(bad.exit_code, 3) << bad.err;
   EXPECT_NE(bad.err.find("meshes[0].stiff"), std::string::npos) << bad.err;
+
+  // The contact planes' keys: read, reported among the options, and a bad value refused by name.
+  testing::write_text(dir.file("planes.json"), R"({
+    "meshes": [{"path": "cloth.obj"}, {"path": "box.obj", "role": "obstacle"}],
+    "frames": 2,
+    "cloth": {"contacts": false, "contact_reach": 2.5}
+  })");
+  const std::string report = dir.file("planes_report.json");
+  const testing::RunResult planes =
+      testing::run_cli("simulate " + testing::quote(dir.file("planes.json")) + " --output-dir " +
+                       testing::quote(dir.file("o3")) + " -q --report " + testing::quote(report));
+  ASSERT_EQ(planes.exit_code, 0) << planes.err;
+  const nlohmann::json j = nlohmann::json::parse(testing::read_text(report));
+  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_EQ(j["options"]["contacts"], false);
+  EXPECT_EQ(j["options"]["contact_reach"], 2.5);
+  testing::write_text(dir.file("reach.json"),
+                      R"({"meshes": [{"path": "cloth.obj"}], "cloth": {"contact_reach": -1}})");
+  const testing::RunResult reach =
+      testing::run_cli("simulate " + testing::quote(dir.file("reach.json")) + " --output-dir " +
+                       testing::quote(dir.file("o4")));
+  EXPECT_EQ(reach.exit_code, 3) << reach.err;
+  EXPECT_NE(reach.err.find("contact_reach"), std::string::npos) << reach.err;
 }
 
 }  // namespace
