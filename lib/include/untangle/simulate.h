@@ -40,12 +40,15 @@ struct ClothOptions {
   // (restitution; 0: the cloth lands without bouncing).
   double friction = 0.3;
   double restitution = 0.0;
-  // Contact with the obstacles inside the solve: at the start of every step, a particle within
-  // contact_reach mean edge lengths (of the cloth at rest) of an obstacle gets the tangent plane at
-  // its closest point there, moved out by the repair's clearance, and is kept on its outer side
-  // after every global solve of that step. Planes are made fresh every step, so they follow the
-  // cloth as it wraps round; the correction then only has what slips between the planes (an edge
-  // over a spike's tip). Off: every step's push into the obstacle is left to the correction.
+  // Contact inside the solve: at the start of every step, a particle within contact_reach mean
+  // edge lengths (of the cloth at rest), plus the clearance, of an obstacle or of another cloth
+  // mesh gets the tangent plane at its closest point there (an obstacle's moved out by the
+  // repair's clearance; between cloth meshes each side may close half the gap beyond it), and a
+  // cloth face within that reach of a convex obstacle vertex (not a tip) gets one along the
+  // vertex's normal; each is kept on its outer side after every global solve of that step. Planes
+  // are made fresh every step, so they follow the cloth as it wraps round; the correction then
+  // only has what slips between them (an edge over a spike's tip). Off: every step's push into
+  // what the cloth lies on is left to the correction.
   bool contacts = true;
   double contact_reach = 1.0;
   // Largest distance a particle may travel in one step, in mean edge lengths of the cloth at rest.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <Eigen/Sparse>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -39,15 +40,15 @@ void build_cloth_model(const std::vector<Mesh>& meshes, const PinMask& pins,
                        const ClothOptions& options, ClothModel& model);
 
 // A one-sided contact: the particle stays on the outer side of the plane through `point` with
-// unit normal `normal` (ObstacleContacts makes them, fresh at every step).
+// unit normal `normal` (ContactPlanes makes them, fresh at every step).
 struct ContactPlane {
   Vec3 point{0.0, 0.0, 0.0};
   Vec3 normal{0.0, 0.0, 0.0};
 };
 
 // A point of a cloth triangle (corners `corner`, barycentric `weight`) that stays on the outer
-// side of a plane: an obstacle's vertex (a spike's tip) under the cloth, which no particle's own
-// plane sees because it meets the cloth between the particles.
+// side of a plane: a convex obstacle vertex (a coarse ball's) under the cloth, which no
+// particle's own plane sees because it meets the cloth between the particles.
 struct FacePlane {
   std::array<std::uint32_t, 3> corner{};
   Vec3 weight{0.0, 0.0, 0.0};
