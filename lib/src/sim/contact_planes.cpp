@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "geometry/vec3.h"
-#include "resolve/scene_measures.h"
+#include "resolve/surface_queries.h"
 
 namespace untangle {
 namespace {
@@ -63,7 +63,7 @@ ContactPlanes::ContactPlanes(const std::vector<Mesh>& meshes, const ClothModel& 
     }
   if (!obstacles.empty()) {
     topo_ = build_topology(obstacles);
-    const SceneMeasures measures = measure_scene(topo_, obstacles, {}, threads);
+    measures_ = measure_scene(topo_, obstacles, {}, threads);
     // Face planes come from the convex vertices (a positive angle defect: the faces round the
     // vertex leave part of the full angle) that are not tips (kTip), where the obstacle pokes out
     // between the cloth's particles: a coarse ball's vertices. Measured on the fitting example,
@@ -73,10 +73,8 @@ ContactPlanes::ContactPlanes(const std::vector<Mesh>& meshes, const ClothModel& 
     std::vector<double> angle(topo_.points.size(), 0.0);
     std::vector<std::uint8_t> used(topo_.points.size(), 0);
     for (std::uint32_t t = 0; t < topo_.tris.size(); ++t)
-      if (!measures.buried[t]) {
+      if (!measures_.buried[t]) {
         exposed_.push_back(t);
-        outward_.push_back(static_cast<std::int8_t>(measures.closed[topo_.tri_component(t)] *
-                                                    measures.orientation[t]));
         const auto& tri = topo_.tris[t];
         for (int k = 0; k < 3; ++k) {
           const Vec3& a = topo_.points[tri[k]];
@@ -89,11 +87,6 @@ ContactPlanes::ContactPlanes(const std::vector<Mesh>& meshes, const ClothModel& 
     for (std::uint32_t v = 0; v < topo_.points.size(); ++v)
       if (used[v] && 2.0 * M_PI - angle[v] > 0.0 && 2.0 * M_PI - angle[v] <= kTip)
         exposed_vertices_.push_back(v);
-    // Whether the outward side of every exposed face round each vertex is known.
-    known_.assign(topo_.points.size(), 1);
-    for (std::size_t k = 0; k < exposed_.size(); ++k)
-      if (outward_[k] == 0)
-        for (std::uint32_t v : topo_.tris[exposed_[k]]) known_[v] = 0;
     build_obstacle_tree();
   }
   const std::size_t cloth_meshes = model.cloth_mesh.size();
@@ -118,20 +111,15 @@ void ContactPlanes::build_obstacle_tree() {
   obstacle_tree_.reset();
   std::fill(lower_.begin(), lower_.end(), INFINITY);
   vertex_lower_.assign(exposed_vertices_.size(), -INFINITY);
-  // Outward normals of the convex vertices (their exposed faces' area vectors, each turned to its
-  // outward side), at the obstacles' positions now.
-  std::vector<Vec3> sum(topo_.points.size(), Vec3{0.0, 0.0, 0.0});
-  for (std::size_t k = 0; k < exposed_.size(); ++k) {
-    const auto& tri = topo_.tris[exposed_[k]];
-    const Vec3 area = scale(cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
-                                  sub(topo_.points[tri[2]], topo_.points[tri[0]])),
-                            static_cast<double>(outward_[k]));
-    for (std::uint32_t v : tri) sum[v] = add(sum[v], area);
-  }
+  // Outward normals of the convex vertices at the obstacles' positions now: their faces'
+  // oriented normal turned outward by the component's closed orientation (0 where it is not
+  // closed or not consistently oriented: unknown).
   vertex_outward_.resize(exposed_vertices_.size());
-  for (std::size_t k = 0; k < exposed_vertices_.size(); ++k)
-    vertex_outward_[k] = known_[exposed_vertices_[k]] ? sum[exposed_vertices_[k]]
-                                                      : Vec3{0.0, 0.0, 0.0};
+  for (std::size_t k = 0; k < exposed_vertices_.size(); ++k) {
+    const std::uint32_t v = exposed_vertices_[k];
+    vertex_outward_[k] = scale(oriented_vertex_normal(topo_, measures_, v),
+                               static_cast<double>(measures_.closed[topo_.vertex_component[v]]));
+  }
   vertex_travel_.assign(exposed_vertices_.size(), 0.0);
   for (std::uint32_t t : exposed_) {
     const auto& tri = topo_.tris[t];
@@ -222,11 +210,10 @@ void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, do
       // A particle behind the outer side of a closed obstacle's nearest face is inside it (the
       // body grew over it, or a correction failed): a plane there would hold it inside, so it
       // gets none and is left to the correction.
-      const std::size_t k = static_cast<std::size_t>(hit.second - obstacle_triangles_.begin());
-      const auto& tri = topo_.tris[exposed_[k]];
-      const Vec3 normal = cross(sub(topo_.points[tri[1]], topo_.points[tri[0]]),
-                                sub(topo_.points[tri[2]], topo_.points[tri[0]]));
-      if (!(outward_[k] != 0 && outward_[k] * dot(sub(x[i], q), normal) < 0.0))
+      const std::uint32_t t =
+          exposed_[static_cast<std::size_t>(hit.second - obstacle_triangles_.begin())];
+      const double outward = measures_.closed[topo_.tri_component(t)];
+      if (!(outward * dot(sub(x[i], q), oriented_normal(topo_, measures_, t)) < 0.0))
         plane(x[i], q, false);
     }
     for (std::size_t b = 0; b < meshes; ++b) {
@@ -253,10 +240,9 @@ void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, do
       // push in too. A face behind the vertex's outward side is inside the obstacle (the body
       // grew over it): a plane would push it further in; it is left to the correction.
       const Vec3& outward = vertex_outward_[k];
-      const double outward_length = norm(outward);
-      if (outward_length > 0.0 && !(dot(off, outward) > 0.0)) continue;
-      const Vec3 normal =
-          outward_length > 0.0 ? scale(outward, 1.0 / outward_length) : scale(off, 1.0 / d);
+      const bool known = outward != Vec3{0.0, 0.0, 0.0};
+      if (known && !(dot(off, outward) > 0.0)) continue;
+      const Vec3 normal = known ? outward : scale(off, 1.0 / d);
       const double height = dot(off, normal);
       if (!(height > 0.0)) continue;
       const std::uint32_t t = cloth.mesh_tri_begin[b] +

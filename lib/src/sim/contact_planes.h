@@ -13,6 +13,7 @@
 
 #include "resolve/triangle_tree.h"
 #include "sim/cloth_model.h"
+#include "resolve/scene_measures.h"
 #include "topology/scene_topology.h"
 #include "untangle/mesh.h"
 
@@ -46,12 +47,10 @@ class ContactPlanes {
   // Obstacles.
   std::vector<std::uint32_t> obstacle_mesh_;  // scene index of each obstacle mesh of topo_
   SceneTopology topo_;                        // of the obstacles alone
+  SceneMeasures measures_;                    // of topo_: orientations, buried faces
   std::vector<std::uint32_t> exposed_;        // triangles of topo_ that are not buried
-  std::vector<std::int8_t> outward_;  // per entry of exposed_: +1 or -1 the outward side of a
-                                      // closed component's face, 0 (not closed) unknown
   std::vector<std::uint32_t> exposed_vertices_;  // their convex corners but tips (face planes)
-  std::vector<std::uint8_t> known_;   // per vertex of topo_: its faces' outward sides all known
-  std::vector<Vec3> vertex_outward_;  // per entry of exposed_vertices_ (0: unknown)
+  std::vector<Vec3> vertex_outward_;  // per entry of exposed_vertices_: unit, 0 unknown
   // Per entry of exposed_vertices_: its distance to the cloth when last measured (-INFINITY not
   // yet) and travel_ then; travel_ sums the cloth's largest particle step from call to call.
   std::vector<double> vertex_lower_, vertex_travel_;
