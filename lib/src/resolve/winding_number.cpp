@@ -31,32 +31,40 @@ Vec3 centroid(const std::array<Vec3, 3>& t) {
 
 WindingNumber::WindingNumber(const std::vector<Vec3>& points,
                              const std::vector<std::array<std::uint32_t, 3>>& tris) {
-  tri_.reserve(tris.size());
+  std::vector<Item> items;
+  items.reserve(tris.size());
   for (const auto& t : tris) {
-    tri_.push_back({points[t[0]], points[t[1]], points[t[2]]});
+    Item item;
+    item.tri = {points[t[0]], points[t[1]], points[t[2]]};
+    item.area_vector = scale(cross(sub(item.tri[1], item.tri[0]), sub(item.tri[2], item.tri[0])), 0.5);
+    item.area = norm(item.area_vector);
+    item.centroid = centroid(item.tri);
+    item.weighted = scale(item.centroid, item.area);
+    items.push_back(item);
     volume_ += dot(points[t[0]], cross(points[t[1]], points[t[2]])) / 6.0;
   }
-  if (tri_.empty()) return;
-  nodes_.reserve(2 * tri_.size() / kLeafSize + 2);
-  build(0, static_cast<std::uint32_t>(tri_.size()));
+  if (items.empty()) return;
+  nodes_.reserve(2 * items.size() / kLeafSize + 2);
+  build(items, 0, static_cast<std::uint32_t>(items.size()));
+  tri_.reserve(items.size());
+  for (const Item& item : items) tri_.push_back(item.tri);
 }
 
-std::uint32_t WindingNumber::build(std::uint32_t begin, std::uint32_t end) {
+std::uint32_t WindingNumber::build(std::vector<Item>& items, std::uint32_t begin,
+                                   std::uint32_t end) {
   const std::uint32_t id = static_cast<std::uint32_t>(nodes_.size());
   nodes_.push_back({});
   Node node;
   node.begin = begin;
   node.end = end;
   double area = 0.0;
-  Vec3 weighted{0, 0, 0}, lo = tri_[begin][0], hi = lo;
+  Vec3 weighted{0, 0, 0}, lo = items[begin].tri[0], hi = lo;
   for (std::uint32_t i = begin; i < end; ++i) {
-    const auto& t = tri_[i];
-    const Vec3 n = scale(cross(sub(t[1], t[0]), sub(t[2], t[0])), 0.5);
-    const double a = norm(n);
-    node.dipole = add(node.dipole, n);
-    weighted = add(weighted, scale(centroid(t), a));
-    area += a;
-    for (const Vec3& q : t) {
+    const Item& item = items[i];
+    node.dipole = add(node.dipole, item.area_vector);
+    weighted = add(weighted, item.weighted);
+    area += item.area;
+    for (const Vec3& q : item.tri) {
       for (int k = 0; k < 3; ++k) {
         lo[k] = std::min(lo[k], q[k]);
         hi[k] = std::max(hi[k], q[k]);
@@ -64,23 +72,30 @@ std::uint32_t WindingNumber::build(std::uint32_t begin, std::uint32_t end) {
     }
   }
   node.centre = area > 0.0 ? scale(weighted, 1.0 / area) : scale(add(lo, hi), 0.5);
+  // The largest squared distance, one root at the end: the root is monotone and correctly
+  // rounded, so this is the largest of the corners' distances, bit for bit.
+  double farthest = 0.0;
   for (std::uint32_t i = begin; i < end; ++i)
-    for (const Vec3& q : tri_[i]) node.radius = std::max(node.radius, norm(sub(q, node.centre)));
+    for (const Vec3& q : items[i].tri) {
+      const Vec3 r = sub(q, node.centre);
+      farthest = std::max(farthest, dot(r, r));
+    }
+  node.radius = std::sqrt(farthest);
   if (end - begin > kLeafSize) {
-    // Split at the median centroid along the box's longest axis; ties by the other coordinates
-    // and the corners, so the order depends on the geometry alone.
+    // Split at the median centroid along the box's longest axis; ties by the corners, so the
+    // order depends on the geometry alone.
     int axis = 0;
     for (int k = 1; k < 3; ++k)
       if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
     const std::uint32_t mid = begin + (end - begin) / 2;
-    std::nth_element(tri_.begin() + begin, tri_.begin() + mid, tri_.begin() + end,
-                     [axis](const std::array<Vec3, 3>& a, const std::array<Vec3, 3>& b) {
-                       const Vec3 ca = centroid(a), cb = centroid(b);
-                       if (ca[axis] != cb[axis]) return ca[axis] < cb[axis];
-                       return a < b;
+    std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
+                     [axis](const Item& a, const Item& b) {
+                       if (a.centroid[axis] != b.centroid[axis])
+                         return a.centroid[axis] < b.centroid[axis];
+                       return a.tri < b.tri;
                      });
-    node.left = build(begin, mid);
-    node.right = build(mid, end);
+    node.left = build(items, begin, mid);
+    node.right = build(items, mid, end);
   }
   nodes_[id] = node;
   return id;

@@ -36,7 +36,13 @@ class WindingNumber {
     std::uint32_t begin = 0, end = 0;   // range of tri_
     std::uint32_t left = 0, right = 0;  // children (0: a leaf)
   };
-  std::uint32_t build(std::uint32_t begin, std::uint32_t end);
+  // A triangle while the hierarchy is built: what every node above it sums, computed once.
+  struct Item {
+    std::array<Vec3, 3> tri;
+    Vec3 area_vector{}, centroid{}, weighted{};  // weighted: the centroid times the area
+    double area = 0.0;
+  };
+  std::uint32_t build(std::vector<Item>& items, std::uint32_t begin, std::uint32_t end);
 
   std::vector<std::array<Vec3, 3>> tri_;
   std::vector<Node> nodes_;
