@@ -123,7 +123,7 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   if (obstacles)
     for (std::size_t i = 0; i < part.size(); ++i) lower[i] = distance(topo.points[part[i]]);
 
-  ShapeSolve solve(topo, in.input, part);
+  ShapeSolve solve(topo, in.input, part, in.threads);
   std::vector<double> strains;  // after each accepted sweep
   bool failed = false;          // the last sweep could not be made clean
   std::vector<Vec3> from(part.size()), to(part.size()), goals;

@@ -7,6 +7,8 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
+#include "detect/run_parallel.h"
+
 namespace untangle {
 namespace {
 
@@ -20,6 +22,7 @@ constexpr double kContact = 1e3;
 // MakeHuman garments took 2 to 3 times the factorizations for the same shapes (female_casualsuit01
 // 260 against 114, largest edge ratio 1.36 against 1.34).
 constexpr int kHeldUpdates = 2;
+constexpr std::size_t kGrain = 256;  // cells or part vertices per parallel block
 
 // Whether two sets of contact planes are the same (the matrix holds their normals and pattern).
 bool same_planes(const std::vector<ShapeSolve::Contact>& a, const std::vector<ShapeSolve::Contact>& b) {
@@ -32,8 +35,8 @@ bool same_planes(const std::vector<ShapeSolve::Contact>& a, const std::vector<Sh
 }  // namespace
 
 ShapeSolve::ShapeSolve(const SceneTopology& topo, const std::vector<Vec3>& rest,
-                       const std::vector<std::uint32_t>& part)
-    : topo_(topo), rest_(rest), part_(part), local_(topo.points.size(), kNone) {
+                       const std::vector<std::uint32_t>& part, int threads)
+    : topo_(topo), rest_(rest), part_(part), threads_(threads), local_(topo.points.size(), kNone) {
   for (std::uint32_t i = 0; i < part.size(); ++i) local_[part[i]] = i;
 }
 
@@ -141,6 +144,17 @@ void ShapeSolve::targets(const std::vector<Vec3>& points, const std::vector<std:
       if (cell_of[w] == kNone) cell_of[w] = static_cast<std::uint32_t>(cells.size()), cells.push_back(w);
     }
   }
+  // Only the cells with a free part vertex in their 1-ring change after the first iteration: the
+  // others keep their rotation (the same inputs give the same bits).
+  std::vector<std::uint32_t> turning;
+  for (std::uint32_t c = 0; c < cells.size(); ++c) {
+    const std::uint32_t v = cells[c];
+    auto free_at = [&](std::uint32_t w) { return local_[w] != kNone && !fixed[local_[w]]; };
+    bool moves = free_at(v);
+    for (std::uint32_t j = topo_.vertex_edge_begin[v]; !moves && j < topo_.vertex_edge_begin[v + 1]; ++j)
+      moves = free_at(topo_.vertex_neighbors[j]);
+    if (moves) turning.push_back(c);
+  }
   std::vector<std::array<double, 9>> rotation(cells.size());
   for (int iteration = 0; iteration < iterations; ++iteration) {
     if (!factored_ || fixed != factored_fixed_ || held != factored_held_ ||
@@ -148,36 +162,47 @@ void ShapeSolve::targets(const std::vector<Vec3>& points, const std::vector<std:
       factor(fixed, contacts, held);
     const Eigen::Index rows = solver_.rows();
     if (rows == 0 || solver_.info() != Eigen::Success) break;
-    for (std::size_t c = 0; c < cells.size(); ++c) rotation[c] = fit_rotation(cells[c], x);
-    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(rows);
-    for (std::uint32_t i = 0; i < part_.size(); ++i) {
-      const std::uint32_t v = part_[i];
-      const double degree = topo_.vertex_edge_begin[v + 1] - topo_.vertex_edge_begin[v];
-      if (fixed[i]) {
-        for (int c = 0; c < 3; ++c) rhs[3 * i + c] = degree * x[v][c];
-        continue;
-      }
-      for (int c = 0; c < 3; ++c) rhs[3 * i + c] += kAnchor * degree * x[v][c];
-      if (held[i]) {
-        const Vec3& n = contacts[i].normal;
-        const double level = dot(n, contacts[i].point);
-        for (int c = 0; c < 3; ++c) rhs[3 * i + c] += kContact * degree * level * n[c];
-      }
-      const auto& rv = rotation[cell_of[v]];
-      for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
-        const std::uint32_t w = topo_.vertex_neighbors[j];
-        const auto& rw = rotation[cell_of[w]];
-        const Vec3 r = sub(rest_[v], rest_[w]);
-        for (int c = 0; c < 3; ++c) {
-          double turned = 0.0;
-          for (int d = 0; d < 3; ++d) turned += 0.5 * (rv[3 * c + d] + rw[3 * c + d]) * r[d];
-          rhs[3 * i + c] += turned;
-        }
-        const std::uint32_t l = local_[w];
-        if (l == kNone || fixed[l])
-          for (int c = 0; c < 3; ++c) rhs[3 * i + c] += x[w][c];
-      }
+    if (iteration == 0) {
+      run_parallel(threads_, cells.size(), kGrain, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t c = begin; c < end; ++c) rotation[c] = fit_rotation(cells[c], x);
+      });
+    } else {
+      run_parallel(threads_, turning.size(), kGrain, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t k = begin; k < end; ++k) rotation[turning[k]] = fit_rotation(cells[turning[k]], x);
+      });
     }
+    Eigen::VectorXd rhs = Eigen::VectorXd::Zero(rows);
+    // Each part vertex writes its own three rows.
+    run_parallel(threads_, part_.size(), kGrain, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::uint32_t v = part_[i];
+        const double degree = topo_.vertex_edge_begin[v + 1] - topo_.vertex_edge_begin[v];
+        if (fixed[i]) {
+          for (int c = 0; c < 3; ++c) rhs[3 * i + c] = degree * x[v][c];
+          continue;
+        }
+        for (int c = 0; c < 3; ++c) rhs[3 * i + c] += kAnchor * degree * x[v][c];
+        if (held[i]) {
+          const Vec3& n = contacts[i].normal;
+          const double level = dot(n, contacts[i].point);
+          for (int c = 0; c < 3; ++c) rhs[3 * i + c] += kContact * degree * level * n[c];
+        }
+        const auto& rv = rotation[cell_of[v]];
+        for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
+          const std::uint32_t w = topo_.vertex_neighbors[j];
+          const auto& rw = rotation[cell_of[w]];
+          const Vec3 r = sub(rest_[v], rest_[w]);
+          for (int c = 0; c < 3; ++c) {
+            double turned = 0.0;
+            for (int d = 0; d < 3; ++d) turned += 0.5 * (rv[3 * c + d] + rw[3 * c + d]) * r[d];
+            rhs[3 * i + c] += turned;
+          }
+          const std::uint32_t l = local_[w];
+          if (l == kNone || fixed[l])
+            for (int c = 0; c < 3; ++c) rhs[3 * i + c] += x[w][c];
+        }
+      }
+    });
     const Eigen::VectorXd solved = solver_.solve(rhs);
     for (std::uint32_t i = 0; i < part_.size(); ++i)
       if (!fixed[i])

@@ -19,9 +19,10 @@ namespace untangle {
 // weights: unit-free and never negative on the irregular triangles of real garments.
 class ShapeSolve {
  public:
-  // `part`: the relaxing welded vertices, ascending; `rest`: the input's welded positions.
+  // `part`: the relaxing welded vertices, ascending; `rest`: the input's welded positions;
+  // `threads` as everywhere (0: all cores; the same result for every count).
   ShapeSolve(const SceneTopology& topo, const std::vector<Vec3>& rest,
-             const std::vector<std::uint32_t>& part);
+             const std::vector<std::uint32_t>& part, int threads = 1);
 
   // A one-sided contact of part[i]: it stays on the side of the plane through `point` that
   // `normal` (unit) points to.
@@ -54,6 +55,7 @@ class ShapeSolve {
   const SceneTopology& topo_;
   const std::vector<Vec3>& rest_;
   const std::vector<std::uint32_t>& part_;
+  int threads_;
   std::vector<std::uint32_t> local_;     // welded vertex -> index in part_, or kNone
   std::vector<std::uint8_t> factored_fixed_;
   std::vector<std::uint8_t> factored_held_;
