@@ -298,7 +298,6 @@ Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, 
 
 namespace {
 
-constexpr std::size_t kBlock = 1024;  // retested triangles per parallel block (update_crossings)
 constexpr std::size_t kParts = 64;    // parts per descent of two hierarchies (for_each_candidate)
 
 // The broad phase: `visit(part, t, u, sides)` for every candidate pair (t, u) (t < u) whose closed
@@ -540,37 +539,51 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
   }
   std::sort(retest.begin(), retest.end());
 
+  // The retested triangles in a hierarchy of their own, descended together with each mesh's
+  // (and the skipped meshes' shared one): the same overlapping pairs as a query per triangle, at
+  // a fraction of the box tests.
   const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
   auto skipped = [&](std::size_t m) { return m < settings.skip_among.size() && settings.skip_among[m]; };
-  const std::size_t blocks = (retest.size() + kBlock - 1) / kBlock;
-  std::vector<std::vector<RawCrossing>> found(blocks);
-  run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
-    std::vector<std::uint32_t> near;
-    for (std::size_t block = begin; block < end; ++block) {
-      const std::size_t last = std::min(retest.size(), (block + 1) * kBlock);
-      for (std::size_t i = block * kBlock; i < last; ++i) {
-        const std::uint32_t t = retest[i];
-        const std::uint32_t tm = topo.tri_mesh[t];
-        const Box3 box = triangle_box(topo, t);
-        near.clear();
-        for (std::size_t m = 0; m < meshes; ++m) {
-          if (m == tm && !settings.self_pairs) continue;
-          if (skipped(m) && skipped(tm)) continue;
-          if (const TriangleBvh* tree = hierarchy.mesh(m)) tree->query(box, near);
-        }
-        if (!skipped(tm) && settings.skipped_bvh != nullptr) settings.skipped_bvh->query(box, near);
-        for (std::uint32_t u : near) {
+  std::vector<std::vector<RawCrossing>> found;
+  if (!retest.empty()) {
+    const TriangleBvh moved_tree(topo, retest);
+    std::vector<const TriangleBvh*> others;
+    for (std::size_t m = 0; m < meshes; ++m)
+      if (const TriangleBvh* tree = hierarchy.mesh(m)) others.push_back(tree);
+    if (settings.skipped_bvh != nullptr) others.push_back(settings.skipped_bvh);
+    struct Job {
+      std::uint32_t other;
+      TriangleBvh::Part part;
+    };
+    std::vector<Job> jobs;
+    for (std::size_t k = 0; k < others.size(); ++k)
+      for (const TriangleBvh::Part& part : moved_tree.split(*others[k], false, kParts))
+        jobs.push_back({static_cast<std::uint32_t>(k), part});
+    found.resize(jobs.size());
+    const bool shared_tree = settings.skipped_bvh != nullptr;
+    run_parallel(settings.threads, jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t j = begin; j < end; ++j) {
+        const bool from_shared = shared_tree && jobs[j].other + 1 == others.size();
+        moved_tree.each_pair_in(*others[jobs[j].other], jobs[j].part, false,
+                                [&](std::uint32_t t, std::uint32_t u) {
+          const std::uint32_t tm = topo.tri_mesh[t], um = topo.tri_mesh[u];
+          if (from_shared) {
+            if (skipped(tm)) return;
+          } else {
+            if (um == tm && !settings.self_pairs) return;
+            if (skipped(um) && skipped(tm)) return;
+          }
           // A pair of two retested triangles is tested once, from the lower one.
-          if (u == t || (affected[u] && u < t)) continue;
-          if (shared_vertices(topo.detect_tris()[t], topo.detect_tris()[u]) >= 2) continue;
+          if (u == t || (affected[u] && u < t)) return;
+          if (shared_vertices(topo.detect_tris()[t], topo.detect_tris()[u]) >= 2) return;
           PairSides sides;
-          if (surely_apart(topo, t, u, sides)) continue;
-          test_owned_edges(topo, t, u, sides.of_t, found[block]);
-          test_owned_edges(topo, u, t, sides.of_u, found[block]);
-        }
+          if (surely_apart(topo, t, u, sides)) return;
+          test_owned_edges(topo, t, u, sides.of_t, found[j]);
+          test_owned_edges(topo, u, t, sides.of_u, found[j]);
+        });
       }
-    }
-  });
+    });
+  }
 
   CrossingSet set;
   auto unmoved = [&](const RawCrossing& c) {
