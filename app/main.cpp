@@ -252,6 +252,14 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
                   r.clearance, r.clean ? "clean" : "unresolved", r.crossings, r.inside_vertices,
                   r.iterations, r.kept ? " (kept)" : "");
     }
+    if (result.continuation.ran) {
+      const untangle::ContinuationRecord& c = result.continuation;
+      std::printf("continuation (deepest inside vertex %.3g, %zu obstacle vertices shrunk by up to "
+                  "%.3g, %d steps): %s, %zu crossings, %zu inside, stretch %.3g%s\n",
+                  c.deepest, c.shrunk_vertices, c.largest_shrink, c.steps,
+                  c.clean ? "clean" : "unresolved", c.crossings, c.inside_vertices, c.max_stretch,
+                  c.kept ? " (kept)" : " (not kept)");
+    }
     for (std::size_t k = 0; k < outputs.size(); ++k) std::printf("wrote %s\n", outputs[k].c_str());
     print_contacts(verified.counts);
     if (result.obstacle_crossing_pairs > 0) {
@@ -394,6 +402,10 @@ int main(int argc, char** argv) {
                   "the first clean one is kept" + default_is(fix_options.retries))
       ->check(CLI::Range(0, 8))
       ->option_text("N");
+  fix->add_flag("--continuation", fix_options.continuation,
+                "A run left unresolved or beyond the bounds with vertices inside a closed obstacle "
+                "runs once more: the obstacles shrunk inward, then grown back in steps, repaired "
+                "and relaxed after each (slow: up to 32 repairs)");
   fix->add_option("--max-stretch", fix_options.bounds.max_stretch,
                   "Quality bound: no edge of a movable mesh longer or shorter than X times its input "
                   "length" + default_is(fix_options.bounds.max_stretch))

@@ -184,6 +184,8 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   options.outside_closed_obstacles = o.outside_closed;
   options.relax = o.relax;
   options.retries = o.retries;
+  options.continuation = o.continuation;
+  options.bounds = o.bounds;
   options.threads = o.threads;
   std::function<Vec3(const Vec3&)> rounding;
   for (const std::string& out : run.outputs)

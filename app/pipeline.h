@@ -42,6 +42,7 @@ struct CommonOptions {
   bool outside_closed = FixOptions{}.outside_closed_obstacles;
   bool relax = FixOptions{}.relax;
   int retries = FixOptions{}.retries;
+  bool continuation = FixOptions{}.continuation;
   QualityBounds bounds;
   bool overwrite = false;
   bool allow_loss = false;  // fix --allow-loss: write although the output drops what export_loss names

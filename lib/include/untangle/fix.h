@@ -24,6 +24,14 @@ enum class FixMethod {
 };
 const char* to_string(FixMethod method);
 
+// What a result may change and still count as clean: the guard of `fix` (its status `distorted`,
+// exit 6, when a movable mesh's written shape goes beyond one of these).
+struct QualityBounds {
+  double max_stretch = 1.5;    // QualityStats::max_stretch at most
+  std::size_t max_flips = 0;   // QualityStats::flipped_faces at most
+  double max_move = 0.05;      // QualityStats::max_displacement_over_diagonal at most
+};
+
 // The one home of every default of the repair. The CLI initialises its options from a
 // default-constructed FixOptions (app/pipeline.h) and its help prints these values; the man page
 // states them too, and a test checks that help and man page agree.
@@ -46,6 +54,9 @@ struct FixOptions {
   // iterations (method region: after a second stage from the input and a third from the best
   // state: see fix_meshes).
   int stall_iterations = 12;
+  // The stages a stalled region run may use (1 to 3; see stall_iterations). The continuation's
+  // steps but the last use 1: a step that stalls is undone and taken in halves instead.
+  int stages = 3;
   // After a clean repair, the moved vertices and the rings around them relax toward the input's
   // shape (their displacements smoothed), every step kept clean by exact detection.
   bool relax = true;
@@ -60,6 +71,20 @@ struct FixOptions {
   // fewest crossings plus inside vertices (the first on a tie). Counted in attempts, not seconds,
   // so that the result does not depend on the machine.
   int retries = 2;
+  // On request (off by default: it runs up to 32 repairs, seconds to minutes where the direct
+  // repair takes a fraction of a second; see docs/PERFORMANCE.md): when the kept attempt is
+  // unresolved, or clean but beyond `bounds`, and movable vertices lie
+  // inside a closed obstacle (a deep penetration), the repair runs once more from the input as a
+  // continuation (DESIGN §5): the obstacles shrunk inward along their normals until the movable
+  // meshes are outside them, then grown back to their true shape in steps, repaired and relaxed
+  // (toward the input's shape) after each. Its result is kept when it is clean and better: within
+  // the bounds where the other is not, or unresolved against it, or with a smaller largest edge
+  // ratio when both are beyond the bounds. Region method only (the paper method is the paper's
+  // DRN alone).
+  bool continuation = false;
+  // What `distorted` means to the continuation's trigger and choice (the CLI passes its
+  // --max-stretch, --max-flips and --max-move).
+  QualityBounds bounds;
   int threads = 0;
 };
 
@@ -95,14 +120,6 @@ struct QualityStats {
   double max_displacement_over_diagonal = 0.0;   // in its input bounding box's diagonals
 };
 
-// What a result may change and still count as clean: the guard of `fix` (its status `distorted`,
-// exit 6, when a movable mesh's written shape goes beyond one of these).
-struct QualityBounds {
-  double max_stretch = 1.5;    // QualityStats::max_stretch at most
-  std::size_t max_flips = 0;   // QualityStats::flipped_faces at most
-  double max_move = 0.05;      // QualityStats::max_displacement_over_diagonal at most
-};
-
 // Per mesh, the shape of `output` against `input` (the same meshes in the same order, the same
 // vertex counts; welded as `input` is): what the repair changed. Obstacles get zeros.
 std::vector<QualityStats> measure_quality(const std::vector<Mesh>& input,
@@ -123,6 +140,31 @@ struct RetryRecord {
   std::size_t crossings = 0, inside_vertices = 0;  // left by the attempt
   int iterations = 0;
   bool kept = false;  // its positions are the result
+};
+
+// One repair of the continuation: the obstacles at `shrink` of their full inward move (1 at the
+// first step, 0 at the last), the counts before and after it.
+struct ContinuationStep {
+  double shrink = 0.0;
+  std::size_t crossings_before = 0, inside_before = 0;
+  std::size_t crossings_after = 0, inside_after = 0;
+  int iterations = 0;
+  bool clean = false;
+};
+
+// The continuation (FixOptions::continuation), when it ran.
+struct ContinuationRecord {
+  bool ran = false;
+  int steps = 0;              // repairs run: the obstacles shrunk, then grown back, the last at
+                              // their true shape
+  double deepest = 0.0;       // deepest movable vertex inside an obstacle at the start, scene units
+  double largest_shrink = 0.0;  // largest inward move of an obstacle vertex, scene units
+  std::size_t shrunk_vertices = 0;  // obstacle vertices moved inward
+  bool clean = false;         // its last step ended with no crossing and no inside vertex
+  std::size_t crossings = 0, inside_vertices = 0;  // left by it
+  double max_stretch = 1.0;   // the largest over the movable meshes, against the input
+  bool kept = false;          // its positions are the result
+  std::vector<ContinuationStep> runs;  // the steps in order
 };
 
 struct FixResult {
@@ -159,6 +201,7 @@ struct FixResult {
   // attempt's.
   std::vector<RetryRecord> retries;
   double clearance = 0.0;  // the clearance of the attempt kept
+  ContinuationRecord continuation;
 };
 
 // Per mesh, per input vertex: 1 = pinned (never moves). Empty = nothing pinned.

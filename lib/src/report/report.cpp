@@ -153,6 +153,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   opts["outside_closed_obstacles"] = options.outside_closed_obstacles;
   opts["relax"] = options.relax;
   opts["retries"] = options.retries;
+  opts["continuation"] = options.continuation;
   opts["max_stretch"] = bounds.max_stretch;
   opts["max_flips"] = bounds.max_flips;
   opts["max_move"] = bounds.max_move;
@@ -172,6 +173,35 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
     retries.push_back(e);
   }
   j["retries"] = retries;
+  if (result.continuation.ran) {
+    const ContinuationRecord& c = result.continuation;
+    Json e;
+    e["steps"] = c.steps;
+    e["deepest"] = c.deepest;
+    e["largest_shrink"] = c.largest_shrink;
+    e["shrunk_vertices"] = c.shrunk_vertices;
+    e["clean"] = c.clean;
+    e["crossings"] = c.crossings;
+    e["inside_vertices"] = c.inside_vertices;
+    e["max_stretch"] = c.max_stretch;
+    e["kept"] = c.kept;
+    Json runs = Json::array();
+    for (const ContinuationStep& r : c.runs) {
+      Json step;
+      step["shrink"] = r.shrink;
+      step["crossings_before"] = r.crossings_before;
+      step["inside_before"] = r.inside_before;
+      step["crossings_after"] = r.crossings_after;
+      step["inside_after"] = r.inside_after;
+      step["iterations"] = r.iterations;
+      step["clean"] = r.clean;
+      runs.push_back(step);
+    }
+    e["runs"] = runs;
+    j["continuation"] = e;
+  } else {
+    j["continuation"] = nullptr;
+  }
   j["before"] = counts_json(result.before);
   j["after"] = counts_json(verified.counts);
   Json history = Json::array();

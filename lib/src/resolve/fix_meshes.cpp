@@ -1,6 +1,9 @@
 // fix_meshes: the repair on a canonical renumbering of the meshes, mapped back to their order,
 // retried with a larger clearance when it ends unresolved (FixOptions::retries).
+#include <algorithm>
+
 #include "resolve/canonical_order.h"
+#include "resolve/continuation.h"
 #include "resolve/repair_loop.h"
 #include "untangle/fix.h"
 
@@ -15,6 +18,45 @@ void add_times(const FixResult& from, FixResult& to) {
   to.regions_ms += from.regions_ms;
   to.displace_ms += from.displace_ms;
   to.relax_ms += from.relax_ms;
+}
+
+// Makes attempt `r` (its positions in `attempt`, run at `clearance`) the result: the retries
+// recorded so far (none kept any more), `before` and the times of every attempt carried over.
+void adopt(FixResult& r, std::vector<Mesh>& attempt, double clearance, FixResult& result,
+           std::vector<Mesh>& work) {
+  for (RetryRecord& earlier : result.retries) earlier.kept = false;
+  r.retries = std::move(result.retries);
+  r.before = result.before;
+  add_times(result, r);
+  r.clearance = clearance;
+  result = std::move(r);
+  work = std::move(attempt);
+}
+
+// How good a result is, lower better: clean within the bounds, clean, unresolved.
+int rank(const FixResult& r, const QualityBounds& bounds) {
+  if (!r.clean) return 2;
+  for (const QualityStats& q : r.quality)
+    if (!within_bounds(q, bounds)) return 1;
+  return 0;
+}
+
+double largest_stretch(const FixResult& r) {
+  double s = 1.0;
+  for (const QualityStats& q : r.quality) s = std::max(s, q.max_stretch);
+  return s;
+}
+
+// Whether `a` (the continuation) is better than `b` (the attempt kept so far); a tie keeps `b`.
+// An unresolved continuation is never kept: its steps were each no worse than their own start,
+// not than the input, so it could leave more crossings of a kind or a vertex moved further than
+// an unresolved run may write (FixOptions::max_written_move).
+bool better(const FixResult& a, const FixResult& b, const QualityBounds& bounds) {
+  const int ra = rank(a, bounds), rb = rank(b, bounds);
+  if (ra == 2) return false;
+  if (ra != rb) return ra < rb;
+  if (ra == 1) return largest_stretch(a) < largest_stretch(b);
+  return false;
 }
 
 }  // namespace
@@ -41,8 +83,9 @@ FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const
     }
   }
 
-  // Retries start from the input again: keep it while there may be one.
-  const std::vector<Mesh> start = options.retries > 0 ? work : std::vector<Mesh>{};
+  // Retries and the continuation start from the input again: keep it while there may be one.
+  const std::vector<Mesh> start =
+      options.retries > 0 || options.continuation ? work : std::vector<Mesh>{};
   bool cancelled = false;
   const FixProgress watch = [&](const IterationRecord& record) {
     if (progress && !progress(record)) cancelled = true;
@@ -62,18 +105,39 @@ FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const
                        r.iterations, false};
     if (cancelled) break;
     if (r.clean || illegal(r) < illegal(result)) {
-      for (RetryRecord& earlier : result.retries) earlier.kept = false;
       record.kept = true;
-      r.retries = std::move(result.retries);
-      r.before = result.before;
-      add_times(result, r);
-      r.clearance = retry.clearance;
-      result = std::move(r);
-      work = std::move(attempt);
+      adopt(r, attempt, retry.clearance, result, work);
     } else {
       add_times(r, result);
     }
     result.retries.push_back(record);
+  }
+
+  // The paper method is the paper's DRN alone: no continuation.
+  if (options.continuation && options.method == FixMethod::kRegion && !cancelled &&
+      rank(result, options.bounds) > 0) {
+    const ContinuationPlan plan = plan_continuation(start, options, work_pins);
+    if (plan.steps > 0) {
+      std::vector<Mesh> attempt = start;
+      ContinuationRecord record;
+      FixResult r = run_continuation(attempt, plan, options, work_pins, round, watch, record.runs);
+      record.ran = true;
+      record.steps = plan.steps;
+      record.deepest = plan.deepest;
+      record.largest_shrink = plan.largest_shrink;
+      record.shrunk_vertices = plan.shrunk_vertices;
+      record.clean = r.clean;
+      record.crossings = r.after.crossings;
+      record.inside_vertices = r.after.inside_vertices;
+      record.max_stretch = largest_stretch(r);
+      if (!cancelled && better(r, result, options.bounds)) {
+        record.kept = true;
+        adopt(r, attempt, options.clearance, result, work);
+      } else {
+        add_times(r, result);
+      }
+      result.continuation = record;
+    }
   }
 
   for (std::size_t m = 0; m < meshes.size(); ++m) {

@@ -52,11 +52,11 @@ constexpr std::size_t kFactoredBudget = 2'000'000;
 // ascending.
 std::vector<std::uint32_t> relaxing_vertices(const SceneTopology& topo,
                                              const SceneMeasures& measures,
-                                             const std::vector<Vec3>& input) {
+                                             const std::vector<Vec3>& moved_from) {
   std::vector<std::uint8_t> in(topo.points.size(), 0);
   std::vector<std::uint32_t> front;
   for (std::uint32_t v = 0; v < topo.points.size(); ++v)
-    if (measures.free[v] && topo.points[v] != input[v]) {
+    if (measures.free[v] && topo.points[v] != moved_from[v]) {
       in[v] = 1;
       front.push_back(v);
     }
@@ -100,7 +100,8 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
                              std::vector<std::uint8_t>& moved) {
   RelaxShapeResult result;
   const SceneMeasures& measures = in.measures;
-  const std::vector<std::uint32_t> part = relaxing_vertices(topo, measures, in.input);
+  const std::vector<std::uint32_t> part =
+      relaxing_vertices(topo, measures, in.moved_from ? *in.moved_from : in.input);
   if (part.empty()) return result;
 
   // Distances to the obstacles' surfaces (their buried faces left out: a point near one is inside)

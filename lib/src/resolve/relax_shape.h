@@ -33,6 +33,10 @@ struct RelaxShapeInputs {
   const ObstacleWinding& winding;
   std::vector<double> clearance;  // per mesh, scene units
   int threads = 0;
+  // Where the run started, when `input` (the shape relaxed toward) is another state, as in the
+  // continuation's steps (toward the asset's shape, from the step's start): the vertices moved
+  // since `moved_from` seed the part. Null: `input` is both.
+  const std::vector<Vec3>* moved_from = nullptr;
 };
 
 // Relaxes topo.points in place: the moved vertices and kRelaxRings rings around them move toward

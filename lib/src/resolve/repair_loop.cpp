@@ -49,7 +49,7 @@ bool touches_obstacle(const SceneTopology& topo, const SceneMeasures& measures,
 class RepairLoop {
  public:
   RepairLoop(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
-             const Rounding& round)
+             const Rounding& round, const std::vector<Mesh>* rest)
       : meshes_(meshes),
         options_(options),
         round_(round),
@@ -70,6 +70,12 @@ class RepairLoop {
     region_settings_.winding = &winding_;
     moved_.assign(topo_.points.size(), 0);
     start_points_ = topo_.points;
+    if (rest != nullptr) {
+      rest_points_ = start_points_;
+      for (std::uint32_t m = 0; m < meshes_.size(); ++m)
+        for (std::uint32_t i = 0; i < topo_.welded[m].size(); ++i)
+          rest_points_[topo_.welded[m][i]] = (*rest)[m].positions[i];
+    }
     diagonal_ = input_diagonals();
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, detect_.skip_among);
     detect_.skipped_bvh = obstacle_bvh_.get();
@@ -176,8 +182,10 @@ class RepairLoop {
     result.clean = counts.crossings == 0 && counts.inside_vertices == 0;
     if (result.clean && options_.relax && hierarchy) {
       const auto t0 = Clock::now();
-      RelaxShapeInputs relax{measures_, start_points_, round_, detect_, winding_, {},
-                             options_.threads};
+      const bool other_rest = !rest_points_.empty();
+      RelaxShapeInputs relax{measures_, other_rest ? rest_points_ : start_points_, round_, detect_,
+                             winding_, {}, options_.threads,
+                             other_rest ? &start_points_ : nullptr};
       for (double e : measures_.mean_edge) relax.clearance.push_back(options_.clearance * e);
       const RelaxShapeResult relaxed = relax_shape(relax, topo_, *hierarchy, inside_, moved_);
       result.relax_sweeps = relaxed.sweeps;
@@ -248,7 +256,9 @@ class RepairLoop {
   }
 
   bool escalate(std::unique_ptr<SceneHierarchy>& hierarchy, int& since_best) {
-    if (stage_ >= 3 || best_points_.empty() || options_.method != FixMethod::kRegion) return false;
+    if (stage_ >= std::min(3, options_.stages) || best_points_.empty() ||
+        options_.method != FixMethod::kRegion)
+      return false;
     ++stage_;
     topo_.points = stage_ == 2 ? start_points_ : best_points_;
     hierarchy.reset();  // positions jumped: the next detection is a full one
@@ -398,6 +408,7 @@ class RepairLoop {
   std::vector<std::uint8_t> moved_;  // per welded vertex: moved at least once
   std::vector<Vec3> start_points_;
   std::vector<double> diagonal_;  // per mesh: input_diagonals
+  std::vector<Vec3> rest_points_;  // welded: the shape relaxed toward, when not the input's
   CrossingKinds input_kinds_;
   std::vector<Vec3> best_points_;     // the fewest crossings and inside vertices so far
   std::vector<Vec3> written_points_;  // the same among the states no worse than the input
@@ -407,8 +418,9 @@ class RepairLoop {
 }  // namespace
 
 FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
-                     const Rounding& round, const FixProgress& progress) {
-  return RepairLoop(meshes, options, pins, round).run(progress);
+                     const Rounding& round, const FixProgress& progress,
+                     const std::vector<Mesh>* rest) {
+  return RepairLoop(meshes, options, pins, round, rest).run(progress);
 }
 
 }  // namespace untangle

@@ -11,8 +11,11 @@ namespace untangle {
 
 // fix_meshes on meshes already in canonical order (canonical_order.h): moves the movable
 // meshes' positions in place and returns what the loop computed (`after` counts the state left in
-// `meshes`, as the loop detected it; nothing is detected again).
+// `meshes`, as the loop detected it; nothing is detected again). `rest` (optional; the same
+// meshes, vertex for vertex) is the shape the relaxation moves toward, where the run's input is
+// not the asset's shape (the continuation's steps); quality is measured against the run's input.
 FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
-                     const Rounding& round, const FixProgress& progress);
+                     const Rounding& round, const FixProgress& progress,
+                     const std::vector<Mesh>* rest = nullptr);
 
 }  // namespace untangle

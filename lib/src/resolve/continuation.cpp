@@ -1,0 +1,288 @@
+// The continuation (continuation.h): the plan from the depths of the inside vertices, then the
+// repairs along the way back to the obstacles' true shape.
+#include "resolve/continuation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include "geometry/vec3.h"
+#include "resolve/inside_vertices.h"
+#include "resolve/repair_loop.h"
+#include "resolve/scene_measures.h"
+#include "resolve/surface_queries.h"
+#include "topology/scene_topology.h"
+
+namespace untangle {
+namespace {
+
+// A movable vertex ends the first step this many of its mesh's mean edges outside the shrunk
+// obstacle (before the repair's clearance).
+constexpr double kMargin = 0.5;
+// The shrink asked by a vertex at depth d (plus the margin) holds within twice that of its
+// closest point and tapers to nothing at kReach times it (plus two of the obstacle's edges), so
+// that the shrunk surface stays smooth under the garment.
+constexpr double kReach = 4.0;
+// At most this fraction of the obstacle's thickness behind a vertex (along its inward normal).
+constexpr double kThickness = 0.4;
+// Each step grows the obstacles back by at most this many mean edges of the movable meshes.
+constexpr double kStepEdges = 0.1;
+// The clearance of every step but the last is this many times a step's growth (at least the
+// run's clearance), so that a garment laid at it is still outside after the obstacles grow by one
+// step: with the run's clearance (0.05 mean edges) every step pushed the whole contact region
+// inside again, and the steps' repairs had thousands of crossings to undo.
+constexpr double kStepClearance = 1.5;
+constexpr int kMinSteps = 2;
+constexpr double kFinestStep = 1.0 / 8.0;  // of a planned step: the smallest growth retried
+constexpr int kMaxRuns = 32;              // repairs in one continuation at most
+constexpr int kIterationShare = 2;  // iterations of all steps but the last: this many times the cap
+constexpr int kStepIterationShare = 4;  // a step but the last: the cap over this
+constexpr int kMaxSteps = 16;
+
+// A movable vertex inside an obstacle: the closest point on the obstacle, and how far to shrink
+// there.
+struct Ask {
+  Vec3 at;
+  double shrink;
+  double radius;
+};
+
+}  // namespace
+
+ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOptions& options,
+                                   const PinMask& pins) {
+  ContinuationPlan plan;
+  const SceneTopology topo = build_topology(meshes);
+  const SceneMeasures measures = measure_scene(topo, meshes, pins, options.threads);
+  const ObstacleWinding winding(topo, measures.role);
+  if (!winding.any()) return plan;
+
+  std::vector<std::uint32_t> obstacle_tris;
+  for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
+    if (measures.role[topo.tri_mesh[t]] == Role::kObstacle && !measures.buried[t])
+      obstacle_tris.push_back(t);
+  if (obstacle_tris.empty()) return plan;
+  const std::unique_ptr<MeshTree> tree = build_tree(topo, obstacle_tris);
+  double obstacle_edge = 0.0;
+  for (std::size_t m = 0; m < meshes.size(); ++m)
+    if (measures.role[m] == Role::kObstacle) obstacle_edge = std::max(obstacle_edge, measures.mean_edge[m]);
+
+  // The asks of the movable vertices inside a closed obstacle.
+  std::vector<std::uint32_t> inside;
+  find_inside_vertices(topo, measures.role, winding, {}, options.threads, inside);
+  std::vector<Ask> asks;
+  double movable_edge = INFINITY;
+  for (std::uint32_t v = 0; v < topo.points.size(); ++v) {
+    if (inside[v] == kNone || !measures.free[v]) continue;
+    const Vec3& p = topo.points[v];
+    const auto c = tree->tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
+    const Vec3 q{c.x(), c.y(), c.z()};
+    const double depth = norm(sub(p, q));
+    const double edge = measures.mean_edge[topo.vertex_mesh[v]];
+    movable_edge = std::min(movable_edge, edge);
+    plan.deepest = std::max(plan.deepest, depth);
+    const double shrink = depth + kMargin * edge;
+    asks.push_back({q, shrink, kReach * shrink + 2.0 * obstacle_edge});
+  }
+  if (asks.empty()) return plan;
+
+  // The obstacles' welded vertices with an outward normal: each closed component's faces turned
+  // by their orientation, its sign from the volume they enclose.
+  std::vector<double> outward(topo.component_mesh.size(), 0.0);
+  for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
+    if (measures.role[topo.tri_mesh[t]] != Role::kObstacle) continue;
+    const auto& f = topo.tris[t];
+    const double volume = dot(topo.points[f[0]], cross(topo.points[f[1]], topo.points[f[2]]));
+    outward[topo.tri_component(t)] += measures.orientation[t] < 0 ? -volume : volume;
+  }
+  // Obstacle vertices binned in a grid of the largest ask's radius.
+  double cell = 0.0;
+  for (const Ask& a : asks) cell = std::max(cell, a.radius);
+  auto key = [cell](const Vec3& p) {
+    auto c = [&](double x) { return static_cast<std::int64_t>(std::floor(x / cell)); };
+    const std::int64_t x = c(p[0]), y = c(p[1]), z = c(p[2]);
+    return static_cast<std::uint64_t>((x * 73856093) ^ (y * 19349663) ^ (z * 83492791));
+  };
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+  for (std::uint32_t v = 0; v < topo.points.size(); ++v)
+    if (measures.role[topo.vertex_mesh[v]] == Role::kObstacle) grid[key(topo.points[v])].push_back(v);
+  std::vector<double> shrink(topo.points.size(), 0.0);
+  for (const Ask& a : asks) {
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const Vec3 probe{a.at[0] + dx * cell, a.at[1] + dy * cell, a.at[2] + dz * cell};
+          const auto it = grid.find(key(probe));
+          if (it == grid.end()) continue;
+          for (std::uint32_t v : it->second) {
+            const double d = norm(sub(topo.points[v], a.at));
+            if (d >= a.radius) continue;
+            const double hold = 2.0 * a.shrink;
+            double f = 1.0;
+            if (d > hold) {
+              const double t = (d - hold) / (a.radius - hold);
+              f = (1.0 - t * t) * (1.0 - t * t);
+            }
+            shrink[v] = std::max(shrink[v], a.shrink * f);
+          }
+        }
+  }
+  // Grid cells hashed together may list a vertex twice; the max above does not mind.
+  plan.inward.assign(meshes.size(), {});
+  std::vector<Vec3> inward(topo.points.size(), Vec3{0.0, 0.0, 0.0});
+  for (std::uint32_t v = 0; v < topo.points.size(); ++v) {
+    if (!(shrink[v] > 0.0)) continue;
+    const double sign = outward[topo.vertex_component[v]];
+    if (sign == 0.0) continue;
+    const Vec3 n = scale(oriented_vertex_normal(topo, measures, v), sign > 0.0 ? 1.0 : -1.0);
+    if (n == Vec3{0.0, 0.0, 0.0}) continue;
+    // The thickness behind v: the first surface a ray inward meets, from just inside.
+    const double eps = 1e-4 * measures.vertex_edge[v];
+    const Vec3 from = sub(topo.points[v], scale(n, eps));
+    const TreeKernel::Ray_3 ray(TreeKernel::Point_3(from[0], from[1], from[2]),
+                                TreeKernel::Vector_3(-n[0], -n[1], -n[2]));
+    double thickness = INFINITY;
+    if (const auto hit = tree->tree.first_intersection(ray)) {
+      if (const auto* point = boost::get<TreeKernel::Point_3>(&hit->first))
+        thickness = norm(sub(Vec3{point->x(), point->y(), point->z()}, from)) + eps;
+    }
+    const double s = std::min(shrink[v], kThickness * thickness);
+    if (!(s > 0.0)) continue;
+    inward[v] = scale(n, -s);
+    plan.largest_shrink = std::max(plan.largest_shrink, s);
+    ++plan.shrunk_vertices;
+  }
+  for (std::uint32_t m = 0; m < meshes.size(); ++m) {
+    if (measures.role[m] != Role::kObstacle) continue;
+    plan.inward[m].resize(meshes[m].positions.size());
+    for (std::uint32_t i = 0; i < meshes[m].positions.size(); ++i)
+      plan.inward[m][i] = inward[topo.welded[m][i]];
+  }
+  if (plan.shrunk_vertices == 0) return plan;
+  plan.movable_edge = movable_edge;
+  plan.steps = std::clamp(
+      static_cast<int>(std::ceil(plan.largest_shrink / (kStepEdges * movable_edge))) + 1,
+      kMinSteps, kMaxSteps);
+  return plan;
+}
+
+FixResult run_continuation(std::vector<Mesh>& meshes, const ContinuationPlan& plan,
+                           const FixOptions& options, const PinMask& pins, const Rounding& round,
+                           const FixProgress& progress, std::vector<ContinuationStep>& runs) {
+  const std::vector<Mesh> rest = meshes;
+  FixOptions step = options;
+  step.retries = 0;
+  bool cancelled = false;
+  const FixProgress watch = [&](const IterationRecord& record) {
+    IterationRecord r = record;
+    r.stage = 4;
+    if (progress && !progress(r)) cancelled = true;
+    return !cancelled;
+  };
+  FixResult result;
+  std::vector<IterationRecord> history;
+  double detect = 0, contours = 0, resolve = 0, regions = 0, displace = 0, relax = 0;
+  // From the full shrink (share 1) down to the true shape (share 0) in steps of 1 / (steps - 1);
+  // a step that ends unresolved is undone and tried again at half its growth, down to
+  // kFinestStep, within kMaxRuns repairs in all (counted, not timed: the same result on every
+  // machine). What the finest step leaves goes on to the next step.
+  const double full = plan.steps > 1 ? 1.0 / (plan.steps - 1) : 1.0;
+  double growth = full;
+  double share = 1.0;
+  bool first = true;
+  std::vector<Mesh> accepted = meshes;
+  int runs_left = kMaxRuns;
+  // Iterations over all steps: a step that stalls runs its stages to the cap, and on a scene
+  // that stalls at every step (a sheet through the cow, whose tail passes through its rump) 32
+  // such steps took over ten minutes. Once spent, the next step is the last.
+  int iterations_left = kIterationShare * options.max_iterations;
+  step.max_iterations = std::max(1, options.max_iterations / kStepIterationShare);
+  while (!cancelled) {
+    const double target = first ? 1.0 : std::max(0.0, share - growth);
+    const bool final_step = target <= 0.0 || runs_left <= 1 || iterations_left <= 0;
+    const double at = final_step ? 0.0 : target;
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+      if (plan.inward[m].empty()) continue;
+      for (std::size_t i = 0; i < meshes[m].positions.size(); ++i)
+        meshes[m].positions[i] = at == 0.0 ? rest[m].positions[i]
+                                           : add(rest[m].positions[i], scale(plan.inward[m][i], at));
+    }
+    const double grown = first ? growth : share - at;
+    if (final_step) step.max_iterations = options.max_iterations;
+    step.stages = final_step ? options.stages : 1;
+    step.clearance = final_step ? options.clearance
+                                : std::max(options.clearance, kStepClearance * grown *
+                                                                  plan.largest_shrink /
+                                                                  plan.movable_edge);
+    result = run_repair(meshes, step, pins, round, watch, &rest);
+    --runs_left;
+    iterations_left -= result.iterations;
+    runs.push_back({at, result.before.crossings, result.before.inside_vertices,
+                    result.after.crossings, result.after.inside_vertices, result.iterations,
+                    result.clean});
+    for (IterationRecord r : result.history) {
+      r.stage = 4;
+      history.push_back(r);
+    }
+    detect += result.detect_ms;
+    contours += result.contours_ms;
+    resolve += result.resolve_ms;
+    regions += result.regions_ms;
+    displace += result.displace_ms;
+    relax += result.relax_ms;
+    if (final_step) break;
+    if (!result.clean && !first && grown > kFinestStep * full) {
+      meshes = accepted;  // undo, and grow by half as much
+      growth = grown * 0.5;
+      continue;
+    }
+    accepted = meshes;
+    share = at;
+    first = false;
+    if (result.clean) growth = std::min(full, growth * 2.0);
+  }
+  if (cancelled) {
+    // Cancelled between shrunk steps: the obstacles go back, and the result is not clean.
+    for (std::size_t m = 0; m < meshes.size(); ++m)
+      if (!plan.inward[m].empty()) meshes[m].positions = rest[m].positions;
+    result.clean = false;
+  }
+  result.history = std::move(history);
+  result.detect_ms = detect;
+  result.contours_ms = contours;
+  result.resolve_ms = resolve;
+  result.regions_ms = regions;
+  result.displace_ms = displace;
+  result.relax_ms = relax;
+  result.quality = measure_quality(rest, meshes);
+  // Displacements against the input, over the movable meshes.
+  result.displacement = DisplacementStats{};
+  double sum = 0.0;
+  const SceneTopology topo = build_topology(rest);
+  std::vector<double> mean_edge(meshes.size(), 0.0);
+  std::vector<std::size_t> edges(meshes.size(), 0);
+  for (const auto& e : topo.edges) {
+    const std::uint32_t m = topo.vertex_mesh[e[0]];
+    mean_edge[m] += norm(sub(topo.points[e[0]], topo.points[e[1]]));
+    ++edges[m];
+  }
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    if (edges[m] > 0) mean_edge[m] /= static_cast<double>(edges[m]);
+    if (meshes[m].role != Role::kMovable) continue;
+    for (std::size_t i = 0; i < meshes[m].positions.size(); ++i) {
+      if (meshes[m].positions[i] == rest[m].positions[i]) continue;
+      const double d = norm(sub(meshes[m].positions[i], rest[m].positions[i]));
+      ++result.displacement.moved_vertices;
+      sum += d;
+      if (d > result.displacement.max) {
+        result.displacement.max = d;
+        result.displacement.max_over_mean_edge = mean_edge[m] > 0.0 ? d / mean_edge[m] : 0.0;
+      }
+    }
+  }
+  if (result.displacement.moved_vertices > 0)
+    result.displacement.mean = sum / static_cast<double>(result.displacement.moved_vertices);
+  return result;
+}
+
+}  // namespace untangle

@@ -1,0 +1,45 @@
+// Continuation for deep penetration (DESIGN §5, "Continuation"): where the garment lies deep
+// inside a closed obstacle, "the small side is illegal" and the closest exit both point the wrong
+// way. The obstacles are shrunk inward along their normals until the movable meshes are outside
+// them, then grown back to their true shape in steps; each step is a shallow penetration that the
+// repair resolves, and the relaxation pulls toward the input's shape after each.
+#pragma once
+
+#include <vector>
+
+#include "resolve/moves.h"
+#include "untangle/fix.h"
+#include "untangle/mesh.h"
+
+namespace untangle {
+
+struct ContinuationPlan {
+  // Per mesh, per input vertex: the inward move of an obstacle vertex at full shrink (all copies
+  // of a welded vertex alike); empty for movable meshes.
+  std::vector<std::vector<Vec3>> inward;
+  double deepest = 0.0;         // deepest movable vertex inside an obstacle, scene units
+  double largest_shrink = 0.0;  // largest inward move, scene units
+  std::size_t shrunk_vertices = 0;
+  double movable_edge = 0.0;  // the smallest mean edge of a movable mesh with a vertex inside
+  int steps = 0;  // repairs to run, the last at the true shape; 0: nothing is inside, no plan
+};
+
+// The plan for meshes at their input positions (canonical order, as run_repair takes them).
+// Each movable vertex inside a closed obstacle at depth d asks the obstacle's surface around its
+// closest point to move inward by d plus half the movable mesh's mean edge, over a radius of a
+// few times that, tapering to nothing; an obstacle vertex moves by the largest ask, at most 0.4 of
+// the obstacle's thickness behind it (a ray inward), so that thin parts are not turned inside
+// out. Steps: the largest move in steps of kStepEdges mean edges of the movable meshes, between
+// 2 and kMaxSteps.
+ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOptions& options,
+                                   const PinMask& pins);
+
+// Runs the plan on `meshes` (input positions in, result out; the obstacles end at their input
+// positions bit for bit). The result is the last step's, with `quality` and `displacement`
+// measured against the input and `history` the steps' iterations in order (stage 4).
+// `runs` receives one record per step.
+FixResult run_continuation(std::vector<Mesh>& meshes, const ContinuationPlan& plan,
+                           const FixOptions& options, const PinMask& pins, const Rounding& round,
+                           const FixProgress& progress, std::vector<ContinuationStep>& runs);
+
+}  // namespace untangle
