@@ -93,6 +93,7 @@ Outcome repair(const Scene& scene, const InsideCounter& judge, bool by_inside, i
   untangle::FixOptions options;
   options.outside_closed_obstacles = by_inside;
   options.threads = threads;
+  options.continuation = false;  // the two rules alone (the continuation shrinks the body first)
   const auto start = std::chrono::steady_clock::now();
   const untangle::FixResult result = untangle::fix_meshes(meshes, options);
   o.ms =

@@ -34,13 +34,17 @@ struct Outcome {
   std::size_t inside = 0;
 };
 
-Outcome repair(bool outside_closed_obstacles) {
+// The rules alone: the continuation (which shrinks the body under the panel) left out.
+Outcome repair(bool outside_closed_obstacles, bool continuation = false) {
   std::vector<Mesh> meshes = scenes::scene_meshes(scenes::panel_in_body());
   FixOptions options;
   options.outside_closed_obstacles = outside_closed_obstacles;
+  options.continuation = continuation;
   Outcome o;
+  const std::vector<Vec3> body = meshes[1].positions;
   o.result = fix_meshes(meshes, options);
   o.inside = inside_count(meshes[0], meshes[1]);
+  EXPECT_EQ(meshes[1].positions, body) << "the body moved (the continuation shrinks and restores it)";
   return o;
 }
 
@@ -71,6 +75,14 @@ TEST(ClosedObstacles, PanelMostlyInsideTheBody) {
   EXPECT_GT(by_area.inside, 0u) << "the area rule was expected to leave the panel partly inside";
   EXPECT_EQ(by_area.result.after.inside_vertices, by_area.inside);
   EXPECT_FALSE(by_area.result.clean) << "reported clean with vertices inside the body";
+
+  // With the continuation the body shrinks under the panel first, so even the area rule gets it
+  // out: every step is a shallow penetration.
+  const Outcome continued = repair(false, true);
+  EXPECT_TRUE(continued.result.continuation.ran);
+  EXPECT_TRUE(continued.result.continuation.kept);
+  EXPECT_TRUE(continued.result.clean);
+  EXPECT_EQ(continued.inside, 0u);
 }
 
 }  // namespace

@@ -122,6 +122,7 @@ TEST(Quality, ShippedPairEndsCleanWithinTheBounds) {
   const Fixed f = fix_shipped_pair(dir, "");
   ASSERT_EQ(f.exit_code, 0) << f.report.dump(1);
   EXPECT_EQ(f.report["status"], "clean");
+  EXPECT_TRUE(f.report["continuation"].is_null());  // clean within the bounds: not needed
   EXPECT_EQ(garment_pairs(f.output, f.body), 0u);
   const Shape s = shape_change(f.input, f.output);
   EXPECT_EQ(s.flipped, 0u);
@@ -177,7 +178,8 @@ std::string scaled_body_six_decimals(const TempDir& dir, double factor) {
 
 // Issue 21's fragile case: the body 2% larger, written with six decimals, stalls the shipped
 // garment at the default clearance; twice the clearance resolves it. fix retries by itself and
-// says so; without retries the same run ends unresolved.
+// says so; without retries the same run ends unresolved. The retry's result is intersection-free
+// but distorted (a stretch of 17 at a spike); the continuation then reaches it within the bounds.
 TEST(Quality, UnresolvedRunIsRetriedWithALargerClearance) {
   TempDir dir;
   const std::string body = scaled_body_six_decimals(dir, 1.02);
@@ -200,6 +202,55 @@ TEST(Quality, UnresolvedRunIsRetriedWithALargerClearance) {
                               static_cast<int>(retries.size())));
   EXPECT_DOUBLE_EQ(f.report["clearance"].get<double>(), kept["clearance"].get<double>());
   EXPECT_EQ(f.report["before"]["crossings"], once.report["before"]["crossings"]);
+
+  const Fixed c = fix_shipped_pair(dir, "--overwrite --continuation", body);
+  ASSERT_EQ(c.exit_code, 0) << c.report.dump(1);
+  EXPECT_TRUE(c.report["continuation"]["kept"].get<bool>());
+  EXPECT_FALSE(c.report["retries"].back()["kept"].get<bool>());
+  EXPECT_EQ(garment_pairs(c.output, c.body), 0u);
+  EXPECT_EQ(cgal_reference::inside_count(c.output, c.body), 0u);
+  const Shape s = shape_change(c.input, c.output);
+  EXPECT_EQ(s.flipped, 0u);
+  EXPECT_LE(s.stretch, 1.5);
+}
+
+// Issue 21's deep penetration: the body 5% larger (six decimals) swallows the garment by up to 2.7
+// cm; the direct repair pushes the garment out through the nearest surface and leaves it
+// distorted. The continuation shrinks the body under the garment and grows it back in steps:
+// clean, nothing inside, the shape kept. The test's own measures judge the written file.
+TEST(Quality, DeepPenetrationIsReachedByTheContinuation) {
+  TempDir dir;
+  const std::string body = scaled_body_six_decimals(dir, 1.05);
+  TempDir direct_dir;
+  const Fixed direct = fix_shipped_pair(direct_dir, "", body);
+  ASSERT_NE(direct.exit_code, -1);
+  EXPECT_NE(direct.exit_code, 0) << "the direct repair reaches it: the test no longer tests";
+  EXPECT_TRUE(direct.report["continuation"].is_null());
+  EXPECT_FALSE(direct.report["options"]["continuation"].get<bool>());
+  ASSERT_GT(cgal_reference::inside_count(direct.input, direct.body), 100u);
+
+  const Fixed f = fix_shipped_pair(dir, "--continuation", body);
+  ASSERT_EQ(f.exit_code, 0) << f.report.dump(1);
+  EXPECT_EQ(f.report["status"], "clean");
+  const auto& c = f.report["continuation"];
+  ASSERT_TRUE(c.is_object());
+  EXPECT_TRUE(c["kept"].get<bool>());
+  EXPECT_TRUE(c["clean"].get<bool>());
+  EXPECT_GT(c["deepest"].get<double>(), 0.1);  // decimetres: deeper than a quarter of an edge
+  const auto& runs = c["runs"];
+  ASSERT_GE(runs.size(), 2u);
+  EXPECT_EQ(runs.front()["shrink"].get<double>(), 1.0);
+  EXPECT_EQ(runs.back()["shrink"].get<double>(), 0.0);
+  EXPECT_EQ(f.report["history"].back()["stage"], 4);
+  // The written file: no crossing, nothing inside, the garment's shape kept.
+  EXPECT_EQ(garment_pairs(f.output, f.body), 0u);
+  EXPECT_EQ(cgal_reference::inside_count(f.output, f.body), 0u);
+  const Shape s = shape_change(f.input, f.output);
+  EXPECT_EQ(s.flipped, 0u);
+  EXPECT_LE(p95(s), 0.05);
+  EXPECT_LE(s.stretch, 1.5);
+  const Shape d = shape_change(direct.input, direct.output);
+  EXPECT_LT(s.stretch, d.stretch);
 }
 
 TEST(Quality, RelaxationSmoothsWhatTheRepairPushed) {
