@@ -198,8 +198,10 @@ FixResult run_continuation(std::vector<Mesh>& meshes, const ContinuationPlan& pl
   int iterations_left = kIterationShare * options.max_iterations;
   step.max_iterations = std::max(1, options.max_iterations / kStepIterationShare);
   while (!cancelled) {
-    const double target = first ? 1.0 : std::max(0.0, share - growth);
-    const bool final_step = target <= 0.0 || runs_left <= 1 || iterations_left <= 0;
+    // A share within rounding of 0 (sums of 1 / (steps - 1)) is the last step, not one more.
+    const double target = first ? 1.0 : share - growth;
+    const bool final_step =
+        target <= 1e-9 * full || runs_left <= 1 || iterations_left <= 0;
     const double at = final_step ? 0.0 : target;
     for (std::size_t m = 0; m < meshes.size(); ++m) {
       if (plan.inward[m].empty()) continue;
