@@ -98,10 +98,14 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
   // Obstacle vertices binned in a grid of the largest ask's radius.
   double cell = 0.0;
   for (const Ask& a : asks) cell = std::max(cell, a.radius);
+  if (!(cell > 0.0) || !std::isfinite(cell)) return plan;  // degenerate meshes: no plan
   auto key = [cell](const Vec3& p) {
-    auto c = [&](double x) { return static_cast<std::int64_t>(std::floor(x / cell)); };
-    const std::int64_t x = c(p[0]), y = c(p[1]), z = c(p[2]);
-    return static_cast<std::uint64_t>((x * 73856093) ^ (y * 19349663) ^ (z * 83492791));
+    // Cell coordinates clamped, then mixed in unsigned arithmetic (wrapping is defined there).
+    auto c = [&](double x) {
+      return static_cast<std::uint64_t>(
+          static_cast<std::int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15)));
+    };
+    return (c(p[0]) * 73856093u) ^ (c(p[1]) * 19349663u) ^ (c(p[2]) * 83492791u);
   };
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
   for (std::uint32_t v = 0; v < topo.points.size(); ++v)
