@@ -1,7 +1,7 @@
 // Benchmark of detection against CGAL in one process: sheets of growing resolution through the
 // cow; untangle::find_intersections against CGAL's Polygon_mesh_processing routines.
 //
-// Usage: untangle_bench_detect [--quick] [--jitter] [--write DIR]
+// Usage: untangle_bench_detect [--quick] [--jitter] [--write DIR] [--files A.obj B.obj [N]]
 //   --quick  only n = 81, 9 repeats (default: n in {41, 81, 121, 161, 201, 281}, 5 repeats)
 //   --jitter  every sheet vertex moved by up to 0.1 cell sizes along each axis (fixed seed): a
 //             sheet like real cloth, never flat to the last bit, where neither side's shortcuts
@@ -9,6 +9,9 @@
 //   --write DIR  only write the cow and the jittered 141 x 141 sheet through it as DIR/cow.obj
 //             and DIR/sheet.obj (the inputs of the whole-process comparison with
 //             untangle_bench_cgal_check, docs/PERFORMANCE.md)
+//   --files A.obj B.obj [N]  only our detection stage on these two OBJ files (A movable, B an
+//             obstacle), one thread, N runs (default 15): best and median, and how many of each
+//             mesh's triangles lie in flat patches (the self pairs detection skips)
 // Exit status: 0 success; 1 the cow is not installed (libcgal-demo); 2 pair counts disagree (or
 // the contours with and without the separation floods).
 //
@@ -45,6 +48,10 @@
 
 #include "app/best_median.h"
 #include "cgal_reference.h"
+#include "detect/detect_crossings.h"
+#include "detect/triangle_bvh.h"
+#include "io/read_obj.h"
+#include "topology/scene_topology.h"
 #include "scenes/scenes.h"
 #include "untangle/intersections.h"
 #include "untangle/mesh.h"
@@ -163,12 +170,47 @@ std::string best_median(const Stat& s) {
   return buf;
 }
 
+// --files: detection alone (topology built once, outside the timing), one thread.
+int time_files(const std::vector<std::string>& files, int runs) {
+  std::vector<untangle::Mesh> meshes;
+  try {
+    meshes.push_back(untangle::read_obj(files[0], untangle::Role::kMovable));
+    meshes.push_back(untangle::read_obj(files[1], untangle::Role::kObstacle));
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  }
+  const untangle::SceneTopology topo = untangle::build_topology(meshes);
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    std::vector<bool> include(meshes.size(), false);
+    include[m] = true;
+    untangle::TriangleBvh tree(topo, include);
+    tree.mark_flat_patches(topo);
+    std::printf("%s: %zu triangles, %zu in %zu flat patches\n", files[m].c_str(), tree.size(),
+                tree.flat_patch_triangles(), tree.flat_patch_count());
+  }
+  untangle::DetectSettings settings;
+  settings.threads = 1;
+  std::vector<double> ms;
+  std::size_t crossings = 0;
+  for (int r = 0; r < runs; ++r) {
+    const auto start = std::chrono::steady_clock::now();
+    crossings = untangle::detect_crossings(topo, settings).items.size();
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  }
+  std::printf("detect_crossings, one thread: %zu crossings, best / median of %d: %s ms\n", crossings,
+              runs, best_median(stat_of(ms)).c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   bool quick = false, jitter = false;
   std::string write_dir;
   int profile_runs = 0;  // --profile N [between|self]: only ours at n = 81, N times
+  std::vector<std::string> files;  // --files A B [N]
+  int file_runs = 15;
   std::string profile_part;  // empty: both
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--quick") == 0) {
@@ -180,14 +222,21 @@ int main(int argc, char** argv) {
     } else if (std::strcmp(argv[i], "--profile") == 0 && i + 1 < argc) {
       profile_runs = std::max(1, std::atoi(argv[++i]));
       if (i + 1 < argc && argv[i + 1][0] != '-') profile_part = argv[++i];
+    } else if (std::strcmp(argv[i], "--files") == 0 && i + 2 < argc) {
+      files = {argv[i + 1], argv[i + 2]};
+      i += 2;
+      if (i + 1 < argc && argv[i + 1][0] != '-') file_runs = std::max(1, std::atoi(argv[++i]));
     } else if (std::strcmp(argv[i], "-h") == 0 || std::strcmp(argv[i], "--help") == 0) {
       std::printf("usage: %s [--quick] [--jitter] [--write DIR] [--profile N [between|self]]\n"
+                  "       %s --files A.obj B.obj [N]\n"
                   "  --quick  only n = 81 with 9 repeats\n"
                   "  --jitter  sheets jittered by up to 0.1 cell sizes (fixed seed)\n"
                   "  --write DIR  only write DIR/cow.obj and DIR/sheet.obj (jittered, n = 141)\n"
                   "  --profile N  only ours at n = 81, N times: between the meshes, then the sheet "
-                  "alone (for a profiler)\n",
-                  argv[0]);
+                  "alone (for a profiler)\n"
+                  "  --files A B [N]  only our detection on A (movable) and B (obstacle), one "
+                  "thread, N runs (default 15), and the triangles in flat patches\n",
+                  argv[0], argv[0]);
       return 0;
     } else {
       std::fprintf(stderr, "error: unknown argument '%s' (usage: %s [--quick])\n", argv[i],
@@ -195,6 +244,7 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  if (!files.empty()) return time_files(files, file_runs);
   const std::string cow = untangle::scenes::cow_path();
   if (cow.empty() || !std::filesystem::is_regular_file(cow)) {
     std::fprintf(stderr,

@@ -208,5 +208,56 @@ TEST(Orientation, ExpansionOrient2dAgreesWithCgal) {
   EXPECT_GT(undecided, 100000);  // the tiny and huge scales
 }
 
+// The oblique predicates of the flat-patch test against exact references: orient_along(a, b, c,
+// w) is det[b-a, c-a, w], which is CGAL::orientation(a, b, c, a + w) when a + w is exact (points
+// on a grid of 1/8); ahead_along against the same sum in 64-bit integers on that grid, scaled.
+// Half of the cases are degenerate by construction (c on the line through a and b seen along w).
+TEST(Orientation, ObliquePredicatesAreExact) {
+  std::mt19937 rng(31);
+  std::uniform_int_distribution<int> g(-40, 40), small(-2, 2);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int zeros = 0;
+  for (int i = 0; i < 4000; ++i) {
+    Vec3 w{double(small(rng)), double(small(rng)), double(small(rng))};
+    if (w[0] == 0 && w[1] == 0 && w[2] == 0) w[2] = 1;
+    std::array<std::array<long long, 3>, 3> q{};
+    for (auto& p : q)
+      for (auto& c : p) c = g(rng);
+    if (i % 2 == 0)  // c = a + t (b - a) + s w: collinear with a, b seen along w
+      for (int k = 0; k < 3; ++k) q[2][k] = q[0][k] + 2 * (q[1][k] - q[0][k]) + static_cast<long long>(w[k]) * 3;
+    Vec3 a, b, c;
+    for (int k = 0; k < 3; ++k) {
+      a[k] = q[0][k] / 8.0;
+      b[k] = q[1][k] / 8.0;
+      c[k] = q[2][k] / 8.0;
+    }
+    const Vec3 aw{a[0] + w[0], a[1] + w[1], a[2] + w[2]};
+    const int turn = orient_along(a, b, c, w);
+    EXPECT_EQ(turn, cgal_orientation(a, b, c, aw)) << i;
+    if (turn == 0) ++zeros;
+    // ahead_along: |w|^2 (c - b).(b - a) - ((c - b).w)((b - a).w), exactly in integers.
+    long long ww = 0, dot = 0, uw = 0, vw = 0;
+    for (int k = 0; k < 3; ++k) {
+      const long long wk = static_cast<long long>(w[k]), uk = q[1][k] - q[0][k], vk = q[2][k] - q[1][k];
+      ww += wk * wk;
+      dot += uk * vk;
+      uw += uk * wk;
+      vw += vk * wk;
+    }
+    const long long ahead = ww * dot - uw * vw;
+    EXPECT_EQ(ahead_along(a, b, c, w), ahead > 0 ? 1 : ahead < 0 ? -1 : 0) << i;
+  }
+  EXPECT_GT(zeros, 1000);  // the degenerate half is decided exactly, not by the filter
+  // Random doubles (no grid): orient_along agrees with CGAL wherever a + w is exact.
+  for (int i = 0; i < 2000; ++i) {
+    const Vec3 w{double(small(rng)), double(small(rng)), 1.0};
+    const Vec3 a{std::ldexp(std::round(std::ldexp(u(rng), 20)), -20), std::ldexp(std::round(std::ldexp(u(rng), 20)), -20),
+                 std::ldexp(std::round(std::ldexp(u(rng), 20)), -20)};
+    const Vec3 b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)};
+    const Vec3 aw{a[0] + w[0], a[1] + w[1], a[2] + w[2]};
+    EXPECT_EQ(orient_along(a, b, c, w), cgal_orientation(a, b, c, aw)) << i;
+  }
+}
+
 }  // namespace
 }  // namespace untangle

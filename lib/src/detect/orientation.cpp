@@ -224,6 +224,38 @@ int orient_2d_exact(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
                                             Kernel::Point_2(c[i], c[j])));
 }
 
+int orient_along(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w) {
+  if (const int sure = PlaneFilter(a, b, c).along(w)) return sure;
+  const CGAL::Protect_FPU_rounding<true> nearest(CGAL_FE_TONEAREST);  // Mpzf needs it
+  Exact u[3], v[3];
+  for (int k = 0; k < 3; ++k) {
+    u[k] = Exact(b[k]) - Exact(a[k]);
+    v[k] = Exact(c[k]) - Exact(a[k]);
+  }
+  Exact det(0);
+  for (int k = 0; k < 3; ++k) {
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    if (w[k] != 0.0) det = det + Exact(w[k]) * (u[i] * v[j] - u[j] * v[i]);
+  }
+  const CGAL::Sign sign = CGAL::sign(det);
+  return sign == CGAL::ZERO ? 0 : sign == CGAL::POSITIVE ? 1 : -1;
+}
+
+int ahead_along(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w) {
+  const CGAL::Protect_FPU_rounding<true> nearest(CGAL_FE_TONEAREST);  // Mpzf needs it
+  Exact uw(0), vw(0), ww(0);
+  Exact dot(0);
+  for (int k = 0; k < 3; ++k) {
+    const Exact u = Exact(b[k]) - Exact(a[k]), v = Exact(c[k]) - Exact(b[k]), wk(w[k]);
+    dot = dot + u * v;
+    uw = uw + u * wk;
+    vw = vw + v * wk;
+    ww = ww + wk * wk;
+  }
+  const CGAL::Sign sign = CGAL::sign(ww * dot - uw * vw);
+  return sign == CGAL::ZERO ? 0 : sign == CGAL::POSITIVE ? 1 : -1;
+}
+
 int orient_sos(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t b,
                std::uint32_t c, std::uint32_t d) {
   const Vec3& pa = points[a];

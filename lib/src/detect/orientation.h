@@ -33,8 +33,11 @@ class PlaneFilter {
     m_ = {std::abs(uy * vz) + std::abs(uz * vy), std::abs(uz * vx) + std::abs(ux * vz),
           std::abs(ux * vy) + std::abs(uy * vx)};
   }
-  int side(const Vec3& d) const {
-    const double wx = d[0] - a_[0], wy = d[1] - a_[1], wz = d[2] - a_[2];
+  int side(const Vec3& d) const { return along({d[0] - a_[0], d[1] - a_[1], d[2] - a_[2]}); }
+  // The sign of det[b-a, c-a, w] for a vector w given exactly (not a rounded difference; the bound
+  // holds all the more): side(d) is along(d - a).
+  int along(const Vec3& w) const {
+    const double wx = w[0], wy = w[1], wz = w[2];
     const double det = wx * n_[0] + wy * n_[1] + wz * n_[2];
     const double permanent = std::abs(wx) * m_[0] + std::abs(wy) * m_[1] + std::abs(wz) * m_[2];
     const double bound = 8e-16 * permanent;
@@ -51,6 +54,15 @@ class PlaneFilter {
 inline int orient_filtered(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return PlaneFilter(a, b, c).side(d);
 }
+
+// Exact sign of w . ((b - a) x (c - a)) for a direction w of small integers (exact, and exact in
+// every product with a coordinate): the turn of a, b, c projected along w onto a plane normal to
+// it, +1 counter-clockwise seen from where w points. PlaneFilter's bound, then exact arithmetic
+// (CGAL::Mpzf). Along a coordinate axis it is orient_2d's turn (negated along y).
+int orient_along(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w);
+// Exact sign of |w|^2 (c - b) . (b - a) - ((c - b) . w) ((b - a) . w), |w|^2 times the dot product
+// of b - a and c - b projected along w: +1 when, projected, c lies ahead of b as seen from a.
+int ahead_along(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& w);
 
 // Exact sign of the orientation of a, b, c projected along axis `drop` onto the other two axes
 // (i, j) in increasing order: +1 when (a, b, c) turns counter-clockwise in (i, j), as

@@ -2,6 +2,7 @@
 #include "detect/triangle_bvh.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "detect/orientation.h"
@@ -33,22 +34,58 @@ void sort_by_code(const std::vector<std::uint32_t>& code, std::vector<std::uint3
   }
 }
 
-// Whether the closed segments ab and cd, projected along `drop`, have a point in common (exact;
-// collinear segments count as meeting: the caller has found their boxes overlapping).
-bool segments_meet(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int drop) {
-  const int o1 = orient_2d(a, b, c, drop), o2 = orient_2d(a, b, d, drop);
+// The directions the flat-patch test projects along: the coordinate axes, then the six face
+// diagonals and the four body diagonals. Vectors of small integers, so every predicate along them
+// stays exact (orient_along, ahead_along); with both signs of each, every normal lies within 35
+// degrees of one of them, where the axes alone leave 55. e1 and e2 span the plane normal to w,
+// the frame of the projection: along an axis the other two axes in increasing order (orient_2d's
+// frame); oblique ones turn from e1 to e2 counter-clockwise seen from where w points
+// (e1 x e2 . w > 0), so orient_along is the frame's turn.
+struct Direction {
+  int axis;  // 0 to 2: the coordinate axis; -1: oblique
+  Vec3 w, e1, e2;
+};
+constexpr int kDirections = 13;
+const Direction kDirection[kDirections] = {
+    {0, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}},   {1, {0, 1, 0}, {1, 0, 0}, {0, 0, 1}},
+    {2, {0, 0, 1}, {1, 0, 0}, {0, 1, 0}},   {-1, {1, 1, 0}, {-1, 1, 0}, {0, 0, 1}},
+    {-1, {1, -1, 0}, {1, 1, 0}, {0, 0, 1}}, {-1, {1, 0, 1}, {1, 0, -1}, {0, 1, 0}},
+    {-1, {1, 0, -1}, {-1, 0, -1}, {0, 1, 0}}, {-1, {0, 1, 1}, {0, -1, 1}, {1, 0, 0}},
+    {-1, {0, 1, -1}, {0, 1, 1}, {1, 0, 0}}, {-1, {1, 1, 1}, {1, -1, 0}, {1, 1, -2}},
+    {-1, {1, 1, -1}, {-1, 1, 0}, {1, 1, 2}}, {-1, {1, -1, 1}, {-1, -1, 0}, {1, -1, -2}},
+    {-1, {1, -1, -1}, {1, 1, 0}, {1, -1, 2}}};
+
+// 1 / |w| per direction.
+const double kInverseLength[kDirections] = {1.0, 1.0, 1.0, 0.70710678118654752, 0.70710678118654752,
+                                            0.70710678118654752, 0.70710678118654752, 0.70710678118654752,
+                                            0.70710678118654752, 0.57735026918962576, 0.57735026918962576,
+                                            0.57735026918962576, 0.57735026918962576};
+
+// The exact turn of a, b, c projected along direction k, in its frame (+1 counter-clockwise, 0
+// collinear).
+int turn(const Vec3& a, const Vec3& b, const Vec3& c, int k) {
+  const Direction& d = kDirection[k];
+  return d.axis >= 0 ? orient_2d(a, b, c, d.axis) : orient_along(a, b, c, d.w);
+}
+
+// Whether the closed segments ab and cd, projected along direction k, have a point in common
+// (exact; collinear segments count as meeting: the caller has found their boxes overlapping).
+bool segments_meet(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, int k) {
+  const int o1 = turn(a, b, c, k), o2 = turn(a, b, d, k);
   if (o1 * o2 > 0) return false;
-  const int o3 = orient_2d(c, d, a, drop), o4 = orient_2d(c, d, b, drop);
+  const int o3 = turn(c, d, a, k), o4 = turn(c, d, b, k);
   return o3 * o4 <= 0;
 }
 
-// Whether the projected polyline a -> b -> c goes on beyond b without doubling back on ab: a
-// strict turn, or straight on (a and c strictly on either side of b along a coordinate).
-bool goes_on(const Vec3& a, const Vec3& b, const Vec3& c, int drop) {
-  if (orient_2d(a, b, c, drop) != 0) return true;
+// Whether the polyline a -> b -> c projected along direction k goes on beyond b without doubling
+// back on ab: a strict turn, or straight on (a and c strictly on either side of b).
+bool goes_on(const Vec3& a, const Vec3& b, const Vec3& c, int k) {
+  if (turn(a, b, c, k) != 0) return true;
+  const int drop = kDirection[k].axis;
+  if (drop < 0) return ahead_along(a, b, c, kDirection[k].w) > 0;  // 0 too when a == b there
   const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
-  for (const int k : {i, j})
-    if (a[k] != b[k]) return (a[k] < b[k] && c[k] > b[k]) || (a[k] > b[k] && c[k] < b[k]);
+  for (const int x : {i, j})
+    if (a[x] != b[x]) return (a[x] < b[x] && c[x] > b[x]) || (a[x] > b[x] && c[x] < b[x]);
   return false;  // a == b in projection
 }
 
@@ -60,49 +97,75 @@ struct PatchScratch {
   std::vector<std::uint32_t> edges;    // the patch's edges
   std::vector<std::uint32_t> loop;     // the boundary loop's vertices in order
   std::vector<std::uint32_t> order;    // loop edges by their lowest projected coordinate
+  std::vector<std::array<double, 4>> range;  // per loop corner: projected [lo, hi] of e1, then e2
 };
 
-// Whether the projection along `drop` of the closed loop s.loop is a simple polygon: consecutive
-// edges go on beyond their common corner, and no two others meet (a sweep along the first
-// projected axis over the edges' coordinate ranges).
-bool simple_polygon(const std::vector<Vec3>& P, PatchScratch& s, int drop) {
+// Whether the projection along direction k of the closed loop s.loop is a simple polygon:
+// consecutive edges go on beyond their common corner, and no two others meet (a sweep along the
+// frame's first coordinate over the edges' ranges, the second one's ranges compared).
+bool simple_polygon(const std::vector<Vec3>& P, PatchScratch& s, int k) {
   const std::size_t n = s.loop.size();
   auto at = [&](std::size_t m) -> const Vec3& { return P[s.loop[m % n]]; };
   for (std::size_t m = 0; m < n; ++m)
-    if (!goes_on(at(m), at(m + 1), at(m + 2), drop)) return false;
-  const int i = drop == 0 ? 1 : 0, j = drop == 2 ? 1 : 2;
-  auto lo = [&](std::size_t m, int k) { return std::min(at(m)[k], at(m + 1)[k]); };
-  auto hi = [&](std::size_t m, int k) { return std::max(at(m)[k], at(m + 1)[k]); };
+    if (!goes_on(at(m), at(m + 1), at(m + 2), k)) return false;
+  // Each corner's two projected coordinates as [lo, hi]: exact along an axis; along an oblique
+  // direction the rounded dot products with e1 and e2, widened by a bound of their error (the
+  // products with the small integers are exact, the two sums add at most 2.3e-16 of the sum of
+  // the magnitudes), so that no overlap of the exact ranges is missed.
+  const Direction& d = kDirection[k];
+  s.range.resize(n);
+  for (std::size_t m = 0; m < n; ++m) {
+    const Vec3& p = at(m);
+    auto& r = s.range[m];
+    if (d.axis >= 0) {
+      const int i = d.axis == 0 ? 1 : 0, j = d.axis == 2 ? 1 : 2;
+      r = {p[i], p[i], p[j], p[j]};
+      continue;
+    }
+    for (int c = 0; c < 2; ++c) {
+      const Vec3& e = c == 0 ? d.e1 : d.e2;
+      const double x = dot(p, e);
+      const double err =
+          1e-15 * (std::abs(p[0] * e[0]) + std::abs(p[1] * e[1]) + std::abs(p[2] * e[2])) + 1e-300;
+      r[2 * c] = x - err;
+      r[2 * c + 1] = x + err;
+    }
+  }
+  auto lo = [&](std::size_t m, int c) { return std::min(s.range[m][2 * c], s.range[(m + 1) % n][2 * c]); };
+  auto hi = [&](std::size_t m, int c) {
+    return std::max(s.range[m][2 * c + 1], s.range[(m + 1) % n][2 * c + 1]);
+  };
   s.order.resize(n);
   for (std::size_t m = 0; m < n; ++m) s.order[m] = static_cast<std::uint32_t>(m);
   std::sort(s.order.begin(), s.order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    const double la = lo(a, i), lb = lo(b, i);
+    const double la = lo(a, 0), lb = lo(b, 0);
     return la != lb ? la < lb : a < b;
   });
   for (std::size_t x = 0; x < n; ++x) {
     const std::size_t a = s.order[x];
-    const double end = hi(a, i);
-    for (std::size_t y = x + 1; y < n && lo(s.order[y], i) <= end; ++y) {
+    const double end = hi(a, 0);
+    for (std::size_t y = x + 1; y < n && lo(s.order[y], 0) <= end; ++y) {
       const std::size_t b = s.order[y];
       if ((a + 1) % n == b || (b + 1) % n == a) continue;  // consecutive: checked above
-      if (hi(a, j) < lo(b, j) || hi(b, j) < lo(a, j)) continue;
-      if (segments_meet(at(a), at(a + 1), at(b), at(b + 1), drop)) return false;
+      if (hi(a, 1) < lo(b, 1) || hi(b, 1) < lo(a, 1)) continue;
+      if (segments_meet(at(a), at(a + 1), at(b), at(b + 1), k)) return false;
     }
   }
   return true;
 }
 
 // The flat-patch test of mark_flat_patches for the triangles `tris`, all of them turning one
-// strict way along each axis flagged in `axes` (bit k: axis k): their edges' signed sum is one
-// loop, and that loop projected along one of those axes is a simple polygon.
-bool flat_patch(const SceneTopology& topo, const std::uint32_t* tris, std::size_t count, unsigned axes,
+// strict way along direction k: their edges' signed sum is one loop, and that loop projected along
+// k is a simple polygon. Then the number of triangles covering a point of the plane is the
+// polygon's winding number there times their common turn, which is never negative: 0 or 1.
+bool flat_patch(const SceneTopology& topo, const std::uint32_t* tris, std::size_t count, int k,
                 PatchScratch& s) {
   s.edges.clear();
   for (std::size_t x = 0; x < count; ++x) {
     const std::uint32_t t = tris[x];
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t e = topo.tri_edges[t][k];
-      const bool forward = topo.edges[e][0] == topo.tris[t][k];
+    for (int c = 0; c < 3; ++c) {
+      const std::uint32_t e = topo.tri_edges[t][c];
+      const bool forward = topo.edges[e][0] == topo.tris[t][c];
       s.net[e] = static_cast<std::int8_t>(s.net[e] + (forward ? 1 : -1));
       if (!s.seen[e]) {
         s.seen[e] = 1;
@@ -143,86 +206,208 @@ bool flat_patch(const SceneTopology& topo, const std::uint32_t* tris, std::size_
     s.net[e] = 0;
     s.seen[e] = 0;
   }
-  if (!ok) return false;
-  for (int drop = 0; drop < 3; ++drop)
-    if ((axes >> drop & 1u) && simple_polygon(topo.points, s, drop)) return true;
-  return false;
+  return ok && simple_polygon(topo.points, s, k);
 }
 
 }  // namespace
 
 void TriangleBvh::mark_flat_patches(const SceneTopology& topo) {
-  const std::size_t nodes = nodes_.size();
+  const std::size_t nodes = nodes_.size(), size = triangles_.size();
   flat_.assign(nodes, kNone);
+  entry_patch_.assign(size, kNone);
+  patches_ = 0;
   if (nodes == 0) return;
-  // Per node: its range of triangles_ and the directions along which all of its triangles turn
-  // one strict way (bit 2 * axis for counter-clockwise, 2 * axis + 1 for clockwise). Children
-  // come after their parent: one backward pass.
-  std::vector<std::uint8_t> turns(nodes);
-  std::vector<std::uint32_t> begin(nodes), end(nodes);
-  for (std::size_t n = nodes; n-- > 0;) {
-    const Node& node = nodes_[n];
-    if (node.count > 0) {
-      std::uint8_t mask = 0x3f;
-      for (std::uint32_t x = node.first; x < node.first + node.count; ++x) {
-        const auto& tri = topo.tris[triangles_[x]];
-        const Vec3 &a = topo.points[tri[0]], &b = topo.points[tri[1]], &c = topo.points[tri[2]];
-        // Along an axis nearly in the triangle's plane (rounded normal component under 1/1000 of
-        // the largest) the turn is not asked: the exact predicate would be slow there, and an axis
-        // left out only makes the test stricter.
-        const Vec3 n = cross(sub(b, a), sub(c, a));
-        const double largest = std::max({std::abs(n[0]), std::abs(n[1]), std::abs(n[2])});
-        std::uint8_t own = 0;
-        for (int axis = 0; axis < 3; ++axis) {
-          if (!(std::abs(n[axis]) >= 1e-3 * largest) || (mask >> (2 * axis) & 3u) == 0) continue;
-          const int turn = orient_2d(a, b, c, axis);
-          if (turn != 0) own |= static_cast<std::uint8_t>(1u << (2 * axis + (turn > 0 ? 0 : 1)));
-        }
-        mask &= own;
-      }
-      turns[n] = mask;
-      begin[n] = node.first;
-      end[n] = node.first + node.count;
-    } else {
-      turns[n] = turns[node.left] & turns[node.right];
-      begin[n] = begin[node.left];
-      end[n] = end[node.right];
-    }
-  }
+  // Local slots for the triangles of this hierarchy (one mesh's ids are contiguous).
+  const auto [lowest, highest] = std::minmax_element(triangles_.begin(), triangles_.end());
+  const std::uint32_t base = *lowest;
+  std::vector<std::uint32_t> entry(*highest - base + 1, kNone);  // slot -> entry in triangles_
+  for (std::uint32_t x = 0; x < size; ++x) entry[triangles_[x] - base] = x;
+  std::vector<std::uint32_t> stamp(entry.size(), kNone);   // slot -> last growth that asked it
+  std::vector<std::uint32_t> corner(topo.points.size(), kNone);  // vertex -> last growth touching it
+  auto normal_of = [&](std::uint32_t t) {
+    const auto& tri = topo.tris[t];
+    const Vec3 &a = topo.points[tri[0]], &b = topo.points[tri[1]], &c = topo.points[tri[2]];
+    return cross(sub(b, a), sub(c, a));
+  };
+  auto turn_of = [&](std::uint32_t t, int k) {
+    const auto& tri = topo.tris[t];
+    return turn(topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]], k);
+  };
+  std::vector<std::uint32_t> side(topo.edges.size(), kNone);  // edge -> last growth bordering it
+  // The growing disk's boundary loop, oriented as its triangles: loop_next[v] for the corners of
+  // this growth (corner[v] == growth) on it, kNone inside.
+  std::vector<std::uint32_t> loop_next(topo.points.size(), kNone);
+  std::uint32_t loop_start = kNone;
+  std::size_t loop_size = 0;
   PatchScratch scratch;
   scratch.net.assign(topo.edges.size(), 0);
   scratch.seen.assign(topo.edges.size(), 0);
   scratch.next.assign(topo.points.size(), kNone);
-  // From the root down: a node that passes marks its subtree; one that fails passes the question
-  // to its children.
-  std::vector<std::uint32_t> stack{0u}, below;
-  while (!stack.empty()) {
-    const std::uint32_t n = stack.back();
-    stack.pop_back();
-    unsigned axes = 0;
-    for (int axis = 0; axis < 3; ++axis)
-      if (turns[n] >> (2 * axis) & 3u) axes |= 1u << axis;
-    const bool flat = axes != 0 && end[n] - begin[n] >= 2 &&
-                      flat_patch(topo, triangles_.data() + begin[n], end[n] - begin[n], axes, scratch);
-    if (flat) {
-      below.assign(1, n);
-      while (!below.empty()) {
-        const std::uint32_t m = below.back();
-        below.pop_back();
-        flat_[m] = n;
-        if (nodes_[m].count == 0) below.insert(below.end(), {nodes_[m].left, nodes_[m].right});
+  std::vector<std::uint32_t> members;
+  std::uint32_t growth = 0;
+  // Seeds in the hierarchy's order. From each unclaimed seed, a breadth-first growth over shared
+  // edges takes the unclaimed triangles that turn the seed's way along the direction nearest the
+  // seed's normal (exact) and lie within 60 degrees of it (rounded: only the shape of the patches
+  // depends on it), keeping the patch a disk: a triangle joins across one taken edge with a new
+  // third corner, or across two (filling a notch). Every prefix of the growth is then a disk too.
+  // Grown to kFirstPatch triangles, then to twice as many while the whole still passes the exact
+  // test (flat_patch): the longest passing prefix is kept, the rest left for later seeds. When the
+  // first one fails, its halves, quarters, ... are tried instead.
+  constexpr std::size_t kFirstPatch = 128;
+  for (std::uint32_t x = 0; x < size; ++x) {
+    const std::uint32_t seed = triangles_[x];
+    if (entry_patch_[x] != kNone) continue;
+    const Vec3 n = normal_of(seed);
+    int k = 0;
+    double best = -1.0;
+    for (int d = 0; d < kDirections; ++d) {
+      const double along = std::abs(dot(n, kDirection[d].w)) * kInverseLength[d];
+      if (along > best) {
+        best = along;
+        k = d;
       }
-    } else if (nodes_[n].count == 0) {
-      stack.push_back(nodes_[n].right);
-      stack.push_back(nodes_[n].left);
+    }
+    const int sign = turn_of(seed, k);
+    if (sign == 0) continue;
+    const Vec3& w = kDirection[k].w;
+    const double w_length = 1.0 / kInverseLength[k];
+    ++growth;
+    members.assign(1, seed);
+    stamp[seed - base] = growth;
+    for (const std::uint32_t v : topo.tris[seed]) corner[v] = growth;
+    for (const std::uint32_t e : topo.tri_edges[seed]) side[e] = growth;
+    for (int c = 0; c < 3; ++c) loop_next[topo.tris[seed][c]] = topo.tris[seed][(c + 1) % 3];
+    loop_start = topo.tris[seed][0];
+    loop_size = 3;
+    std::size_t head = 0;
+    auto grow = [&](std::size_t limit) {
+      for (; head < members.size() && members.size() < limit; ++head) {
+        const std::uint32_t t = members[head];
+        for (const std::uint32_t e : topo.tri_edges[t])
+          for (std::uint32_t i = topo.edge_face_begin[e]; i < topo.edge_face_begin[e + 1]; ++i) {
+            const std::uint32_t u = topo.edge_faces[i];
+            if (u < base || u - base >= entry.size()) continue;
+            const std::uint32_t slot = u - base;
+            if (entry[slot] == kNone || stamp[slot] == growth || entry_patch_[entry[slot]] != kNone) continue;
+            // Which of u's edges border the disk (edge c joins corners c and c + 1), and whether
+            // they run against the loop (u oriented as the disk) and follow one another on it.
+            const auto& q = topo.tris[u];
+            unsigned mask = 0;
+            for (int c = 0; c < 3; ++c)
+              if (side[topo.tri_edges[u][c]] == growth) mask |= 1u << c;
+            // One edge: that one; two: the later of them in u's cyclic order.
+            static constexpr int kFirst[8] = {0, 0, 1, 1, 2, 0, 2, 0};
+            const int taken = (mask & 1u) + (mask >> 1 & 1u) + (mask >> 2 & 1u), first = kFirst[mask];
+            const std::uint32_t x = q[first], y = q[(first + 1) % 3], z = q[(first + 2) % 3];
+            bool joins = false;
+            if (taken == 1) {
+              // Across y -> x on the loop (u has x -> y), with a new third corner z.
+              joins = corner[z] != growth && loop_next[y] == x;
+            } else if (taken == 2) {
+              // u's edges z -> x and x -> y border it: the loop runs y -> x -> z; x goes inside.
+              joins = loop_next[y] == x && loop_next[x] == z;
+            }
+            if (!joins) continue;  // asked again later
+            stamp[slot] = growth;  // asked: in this patch, or never
+            const Vec3 nu = normal_of(u);
+            if (!(sign * dot(nu, w) >= 0.5 * std::sqrt(dot(nu, nu)) * w_length) || turn_of(u, k) != sign)
+              continue;
+            if (taken == 1) {
+              loop_next[y] = z;
+              loop_next[z] = x;
+              corner[z] = growth;
+              ++loop_size;
+            } else {
+              loop_next[y] = z;
+              loop_next[x] = kNone;
+              if (loop_start == x) loop_start = y;
+              --loop_size;
+            }
+            for (const std::uint32_t f : topo.tri_edges[u]) side[f] = growth;
+            members.push_back(u);
+          }
+      }
+    };
+    std::size_t kept = 0;
+    for (std::size_t limit = kFirstPatch;; limit *= 2) {
+      grow(limit);
+      // The disk's loop as the growth keeps it (flat_patch would find the same from its edges).
+      scratch.loop.clear();
+      std::uint32_t v = loop_start;
+      do {
+        scratch.loop.push_back(v);
+        v = loop_next[v];
+      } while (v != kNone && v != loop_start && scratch.loop.size() <= loop_size);
+      if (v != loop_start || scratch.loop.size() != loop_size ||
+          !simple_polygon(topo.points, scratch, k))
+        break;
+      kept = members.size();
+      if (head >= members.size()) break;  // nothing more to take
+    }
+    if (kept == 0)
+      for (std::size_t length = members.size() / 2; length >= 2 && kept == 0; length /= 2)
+        if (flat_patch(topo, members.data(), length, k, scratch)) kept = length;
+    if (kept >= 2) {  // one triangle alone has no pair to skip
+      for (std::size_t m = 0; m < kept; ++m) entry_patch_[entry[members[m] - base]] = patches_;
+      ++patches_;
+    }
+  }
+  // The hierarchy again, each patch one subtree: at the first entry of each patch all of its
+  // entries (in their order), an entry in no patch where it is; the ranges cut at the patch border
+  // nearest their middle while they hold several. Only the speed of queries depends on the shape.
+  std::vector<std::uint32_t> start(patches_ + 1, 0), listed(size), order;
+  for (std::uint32_t x = 0; x < size; ++x)
+    if (entry_patch_[x] != kNone) ++start[entry_patch_[x] + 1];
+  for (std::size_t p = 0; p < patches_; ++p) start[p + 1] += start[p];
+  {
+    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+    for (std::uint32_t x = 0; x < size; ++x)
+      if (entry_patch_[x] != kNone) listed[fill[entry_patch_[x]]++] = x;
+  }
+  order.reserve(size);
+  for (std::uint32_t x = 0; x < size; ++x) {
+    const std::uint32_t patch = entry_patch_[x];
+    if (patch == kNone) {
+      order.push_back(x);
+    } else if (listed[start[patch]] == x) {
+      order.insert(order.end(), listed.begin() + start[patch], listed.begin() + start[patch + 1]);
+    }
+  }
+  // Rebuilt unless one patch holds everything (the root is that patch) or there is none.
+  if (patches_ > 0 && start[1] < size) {
+    std::vector<std::uint32_t> triangles(size), patch_of(size), cuts;
+    std::vector<Box3> boxes(size);
+    for (std::uint32_t x = 0; x < size; ++x) {
+      triangles[x] = triangles_[order[x]];
+      boxes[x] = leaf_boxes_[order[x]];
+      patch_of[x] = entry_patch_[order[x]];
+      if (x > 0 && (patch_of[x] == kNone || patch_of[x] != patch_of[x - 1])) cuts.push_back(x);
+    }
+    triangles_.swap(triangles);
+    leaf_boxes_.swap(boxes);
+    entry_patch_.swap(patch_of);
+    nodes_.clear();
+    build(0, static_cast<std::uint32_t>(size), &cuts);
+    flat_.assign(nodes_.size(), kNone);
+  }
+  // A node holds one patch when all of its triangles do. Children come after their parent.
+  for (std::size_t n = nodes_.size(); n-- > 0;) {
+    const Node& node = nodes_[n];
+    if (node.count > 0) {
+      std::uint32_t patch = entry_patch_[node.first];
+      for (std::uint32_t x = node.first + 1; x < node.first + node.count; ++x)
+        if (entry_patch_[x] != patch) patch = kNone;
+      flat_[n] = patch;
+    } else {
+      flat_[n] = flat_[node.left] == flat_[node.right] ? flat_[node.left] : kNone;
     }
   }
 }
 
 std::size_t TriangleBvh::flat_patch_triangles() const {
   std::size_t count = 0;
-  for (std::size_t n = 0; n < flat_.size(); ++n)
-    if (flat_[n] != kNone && nodes_[n].count > 0) count += nodes_[n].count;
+  for (const std::uint32_t patch : entry_patch_)
+    if (patch != kNone) ++count;
   return count;
 }
 
@@ -277,11 +462,13 @@ void TriangleBvh::build_over(const SceneTopology& topo, const std::vector<std::u
   }
   // A binary tree over leaves of 2 to 4 triangles has fewer than tris.size() nodes.
   nodes_.reserve(tris.size());
-  build(0, static_cast<std::uint32_t>(tris.size()));
+  build(0, static_cast<std::uint32_t>(tris.size()), nullptr);
 }
 
 void TriangleBvh::refit(const SceneTopology& topo) {
   flat_.clear();  // marked for the positions it was built at
+  entry_patch_.clear();
+  patches_ = 0;
   for (std::size_t i = 0; i < triangles_.size(); ++i) leaf_boxes_[i] = triangle_box(topo, triangles_[i]);
   // Children come after their parent (pre-order build): one backward pass refits every node.
   for (std::size_t n = nodes_.size(); n-- > 0;) {
@@ -297,7 +484,8 @@ void TriangleBvh::refit(const SceneTopology& topo) {
   }
 }
 
-std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
+std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count,
+                                 const std::vector<std::uint32_t>* cuts) {
   const std::uint32_t index = static_cast<std::uint32_t>(nodes_.size());
   nodes_.emplace_back();
   if (count <= 4) {
@@ -308,9 +496,20 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count) {
     nodes_[index].count = count;
     return index;
   }
-  const std::uint32_t half = count / 2;
-  const std::uint32_t left = build(first, half);
-  const std::uint32_t right = build(first + half, count - half);
+  std::uint32_t half = count / 2;
+  if (cuts != nullptr) {
+    // The cut inside the range nearest its middle, if any.
+    const auto at = std::lower_bound(cuts->begin(), cuts->end(), first + half);
+    std::uint32_t best = 0;
+    if (at != cuts->end() && *at < first + count) best = *at - first;
+    if (at != cuts->begin() && *(at - 1) > first) {
+      const std::uint32_t below = *(at - 1) - first;
+      if (best == 0 || half - below < best - half) best = below;
+    }
+    if (best != 0) half = best;
+  }
+  const std::uint32_t left = build(first, half, cuts);
+  const std::uint32_t right = build(first + half, count - half, cuts);
   nodes_[index].box = merged(nodes_[left].box, nodes_[right].box);
   nodes_[index].left = left;
   nodes_[index].right = right;

@@ -27,19 +27,22 @@ class TriangleBvh {
   // iterations of fix). Queries stay exact; only their speed depends on how far things moved.
   void refit(const SceneTopology& topology);
 
-  // Marks the subtrees whose triangles provably meet one another only in the vertices and edges
-  // they share (flat patches), so that each_pair_self and the self parts of each_pair_in skip the
-  // pairs inside them. A node qualifies when, projected along a coordinate axis, every one of its
-  // triangles turns the same strict way (exact orient_2d: a normal cone inside that axis'
-  // half-space) and the signed sum of its triangles' edges is one closed loop that projects to a
-  // simple polygon (exact tests, touching counts as crossing). Then the number of triangles
-  // covering a point of the plane is the polygon's winding number there, 0 or 1, and the patch
-  // projects one to one: two of its triangles meet in space only in a shared vertex or edge, so
-  // no edge can pass through a face under any perturbation (DESIGN.md, "Flat patches"). Only the
-  // speed of the self pairs depends on it, never which crossings are found.
+  // Groups the triangles into flat patches that provably meet one another only in the vertices
+  // and edges they share, so that each_pair_self and the self parts of each_pair_in skip the pairs
+  // inside one patch. A patch grows over shared edges from a seed, taking triangles that turn the
+  // same strict way projected along one of 13 small-integer directions (exact: a normal cone
+  // inside that direction's half-space), and is kept when its boundary (the signed sum of its
+  // triangles' edges: one or several loops, pinched or nested) projects without two segments
+  // meeting except at shared corners, and the covering number it implies is 1 on the patch's side
+  // of every boundary segment (exact winding counts, touching counts as meeting). Then every point
+  // of the plane is covered at most once, the patch projects one to one, and two of its triangles
+  // meet in space only in a shared vertex or edge: no edge can pass through a face under any
+  // perturbation (DESIGN.md, "Flat patches"). Only the speed of the self pairs depends on it,
+  // never which crossings are found.
   void mark_flat_patches(const SceneTopology& topology);
-  // Triangles inside marked subtrees (all of them when the whole mesh is one flat patch).
+  // Triangles in some patch, and the number of patches.
   std::size_t flat_patch_triangles() const;
+  std::size_t flat_patch_count() const { return patches_; }
 
   // Appends every indexed triangle whose box overlaps `box` (in no particular order).
   void query(const Box3& box, std::vector<std::uint32_t>& out) const;
@@ -76,7 +79,11 @@ class TriangleBvh {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> stack;
     stack.reserve(128);  // about the sum of the two depths
     const bool flat = self && !flat_.empty();
-    // Both halves inside one flat patch (a part split off below a marked node): nothing to report.
+    // Two triangles of one flat patch: no crossing between them, nothing to report.
+    auto apart = [&](std::uint32_t x, std::uint32_t y) {
+      return flat && entry_patch_[x] != kNone && entry_patch_[x] == entry_patch_[y];
+    };
+    // Both halves inside one flat patch: nothing to report.
     if (flat && flat_[part.i] != kNone && flat_[part.i] == flat_[part.j]) return;
     stack.push_back({part.i, part.j});
     while (!stack.empty()) {
@@ -88,13 +95,25 @@ class TriangleBvh {
         if (a.count > 0) {
           for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
             for (std::uint32_t y = x + 1; y < a.first + a.count; ++y)
-              if (leaf_boxes_[x].overlaps(leaf_boxes_[y])) f(triangles_[x], triangles_[y]);
+              if (!apart(x, y) && leaf_boxes_[x].overlaps(leaf_boxes_[y])) f(triangles_[x], triangles_[y]);
         } else {
           stack.push_back({a.left, a.right});
           stack.push_back({a.right, a.right});
           stack.push_back({a.left, a.left});
         }
         continue;
+      }
+      if (flat) {
+        if (flat_[i] != kNone && flat_[i] == flat_[j]) continue;
+        const Node& a = nodes_[i];
+        const Node& b = nodes_[j];
+        if (a.count > 0 && b.count > 0) {
+          if (!a.box.overlaps(b.box)) continue;
+          for (std::uint32_t x = a.first; x < a.first + a.count; ++x)
+            for (std::uint32_t y = b.first; y < b.first + b.count; ++y)
+              if (!apart(x, y) && leaf_boxes_[x].overlaps(leaf_boxes_[y])) f(triangles_[x], triangles_[y]);
+          continue;
+        }
       }
       descend(other, i, j, stack, f);
     }
@@ -130,13 +149,18 @@ class TriangleBvh {
     return (b.hi[0] - b.lo[0]) + (b.hi[1] - b.lo[1]) + (b.hi[2] - b.lo[2]);  // half perimeter
   }
   void build_over(const SceneTopology& topology, const std::vector<std::uint32_t>& triangles);
-  std::uint32_t build(std::uint32_t first, std::uint32_t count);
+  // Nodes over triangles_[first, first + count); ranges are halved, or cut at the entry of `cuts`
+  // (ascending) nearest their middle when they hold one.
+  std::uint32_t build(std::uint32_t first, std::uint32_t count, const std::vector<std::uint32_t>* cuts);
 
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> triangles_;
   std::vector<Box3> leaf_boxes_;  // per entry of triangles_
-  // Per node, once mark_flat_patches ran: the highest marked node whose subtree holds it, or kNone.
+  // Once mark_flat_patches ran: per node, the patch holding all of its triangles, or kNone; per
+  // entry of triangles_, its patch or kNone.
   std::vector<std::uint32_t> flat_;
+  std::vector<std::uint32_t> entry_patch_;
+  std::size_t patches_ = 0;
 };
 
 }  // namespace untangle
