@@ -54,8 +54,9 @@ struct FixOptions {
   // iterations (method region: after a second stage from the input and a third from the best
   // state: see fix_meshes).
   int stall_iterations = 12;
-  // The stages a stalled region run may use (1 to 3; see stall_iterations). The continuation's
-  // steps but the last use 1: a step that stalls is undone and taken in halves instead.
+  // How many stages a stalled region run may use (1 to 3; see stall_iterations), taken in the
+  // order 1, 2, 3, or 2, 1, 3 for a single mesh alone in its scene. The continuation's steps but
+  // the last use 1: a step that stalls is undone and taken in halves instead.
   int stages = 3;
   // After a clean repair, the moved vertices and the rings around them relax toward the input's
   // shape (their displacements smoothed), every step kept clean by exact detection.
