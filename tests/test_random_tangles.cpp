@@ -401,10 +401,10 @@ FixOptions stages_only() {
 
 // Scenes without a self contour whose first stage stalls: the second stage, with only measured
 // steps and relaxed neighbourhoods on the contours between movable meshes, resolves them. (The
-// second stage once ran only for self contours; these four then ended with 12, 4, 9 and 14
-// crossings.)
+// second stage once ran only for self contours; 102, 115 and 170 then ended with 12, 9 and 14
+// crossings. Seed 107 replaced 106 when the meshes' canonical order became topology only.)
 TEST(RandomTangles, SecondStageResolvesWhatTheFirstLeaves) {
-  for (std::uint64_t seed : {102u, 106u, 115u, 170u}) {
+  for (std::uint64_t seed : {102u, 107u, 115u, 170u}) {
     const scenes::RandomTangle tangle = scenes::random_tangle(seed);
     SCOPED_TRACE(tangle.description);
     std::vector<Mesh> meshes = scenes::scene_meshes(tangle.scene);
@@ -427,9 +427,10 @@ TEST(RandomTangles, SecondStageResolvesWhatTheFirstLeaves) {
 
 // Scenes where both stages stall: the third starts from the best state either reached, with the
 // second stage's rules, and resolves them. Its first entry is that best count; before the third
-// stage these four ended with 65, 3, 4 and 10 crossings.
+// stage 45, 79 and 223 ended with 65, 3 and 10 crossings. (Seed 52 replaced 163 when the meshes'
+// canonical order became topology only.)
 TEST(RandomTangles, ThirdStageResolvesFromTheBestState) {
-  for (std::uint64_t seed : {45u, 79u, 163u, 223u}) {
+  for (std::uint64_t seed : {45u, 52u, 79u, 223u}) {
     const scenes::RandomTangle tangle = scenes::random_tangle(seed);
     SCOPED_TRACE(tangle.description);
     std::vector<Mesh> meshes = scenes::scene_meshes(tangle.scene);

@@ -103,7 +103,7 @@ struct IntersectionCounts {
 
 struct Intersections {
   std::vector<Crossing> crossings;  // sorted by (edge mesh, edge, face mesh, face)
-  std::vector<Contour> contours;    // in a deterministic order (by their first crossing)
+  std::vector<Contour> contours;    // in the order of their lowest crossing
   IntersectionCounts counts;
   // Intersecting triangle pairs as (mesh, triangle) pairs, each pair ordered, sorted.
   std::vector<std::array<std::uint32_t, 4>> triangle_pairs;

@@ -29,16 +29,21 @@ const char* to_string(TrackType type) {
 
 namespace {
 
-// The result of a detection on canonical numberings, in the input's vertex and triangle indices:
-// crossings sorted again by them (contours keep pointing at the same crossings), pairs likewise.
-void to_input_indices(const std::vector<CanonicalMesh>& canon, Intersections& result) {
+// The result of a detection on the canonical scene, in the input's meshes, vertex and triangle
+// indices: crossings sorted again by them (contours keep pointing at the same crossings, and come
+// in the order of their lowest crossing again), pairs likewise, per-mesh counts reordered.
+void to_input_indices(const CanonicalScene& scene, Intersections& result) {
   const std::size_t n = result.crossings.size();
+  const auto& mesh_of = scene.mesh_order;
+  const auto& canon = scene.renumbering;
   for (Crossing& c : result.crossings) {
     const auto& vertices = canon[c.edge_mesh].vertex_order;
     c.edge_v0 = vertices[c.edge_v0];
     c.edge_v1 = vertices[c.edge_v1];
     if (c.edge_v1 < c.edge_v0) std::swap(c.edge_v0, c.edge_v1);
     c.face = canon[c.face_mesh].triangle_order[c.face];
+    c.edge_mesh = mesh_of[c.edge_mesh];
+    c.face_mesh = mesh_of[c.face_mesh];
   }
   auto key = [](const Crossing& c) {
     return std::make_tuple(c.edge_mesh, c.edge_v0, c.edge_v1, c.face_mesh, c.face);
@@ -56,40 +61,47 @@ void to_input_indices(const std::vector<CanonicalMesh>& canon, Intersections& re
     sorted.push_back(result.crossings[order[k]]);
   }
   result.crossings = std::move(sorted);
-  for (Contour& contour : result.contours)
+  for (Contour& contour : result.contours) {
     for (std::uint32_t& c : contour.crossings) c = position[c];
+    for (Track& track : contour.tracks) track.mesh = mesh_of[track.mesh];
+  }
+  const auto lowest = [](const Contour& c) {
+    return c.crossings.empty() ? static_cast<std::uint32_t>(-1)
+                               : *std::min_element(c.crossings.begin(), c.crossings.end());
+  };
+  std::stable_sort(result.contours.begin(), result.contours.end(),
+                   [&](const Contour& a, const Contour& b) { return lowest(a) < lowest(b); });
   for (auto& p : result.triangle_pairs) {
     p[1] = canon[p[0]].triangle_order[p[1]];
     p[3] = canon[p[2]].triangle_order[p[3]];
+    p[0] = mesh_of[p[0]];
+    p[2] = mesh_of[p[2]];
     if (std::make_pair(p[2], p[3]) < std::make_pair(p[0], p[1])) {
       std::swap(p[0], p[2]);
       std::swap(p[1], p[3]);
     }
   }
   std::sort(result.triangle_pairs.begin(), result.triangle_pairs.end());
+  counts_in_input_order(scene, result.counts);
 }
 
 }  // namespace
 
-// Detection runs on a canonical numbering of every mesh, as the repair does (canonical_order.h):
-// the symbolic perturbation resolves exact degeneracies by vertex ids, so `check`, `fix`'s
-// `before` and its verdict on the written files decide them alike, whatever the file's order.
+// Detection runs on the canonical scene, as the repair does (canonical_order.h): the symbolic
+// perturbation resolves exact degeneracies by vertex ids, so `check`, `fix`'s `before` and its
+// verdict on the written files decide them alike, whatever the file's order and the order the
+// meshes are listed in.
 Intersections find_intersections(const std::vector<Mesh>& input, const DetectOptions& options,
                                  DetectTimings* timings, std::vector<MeshInfo>* infos) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  std::vector<CanonicalMesh> canon;
-  canon.reserve(input.size());
-  std::vector<Mesh> meshes;
-  meshes.reserve(input.size());
-  for (const Mesh& m : input) {
-    canon.push_back(canonical(m));
-    meshes.push_back(std::move(canon.back().mesh));
-  }
+  CanonicalScene scene = canonical_scene(input);
+  const std::vector<Mesh>& meshes = scene.meshes;
   const SceneTopology topo = build_topology(meshes);
   if (infos != nullptr) {
-    infos->clear();
-    for (std::size_t m = 0; m < meshes.size(); ++m) infos->push_back(describe_mesh_in(topo, m, meshes[m]));
+    std::vector<MeshInfo> described;
+    for (std::size_t m = 0; m < meshes.size(); ++m) described.push_back(describe_mesh_in(topo, m, meshes[m]));
+    *infos = in_input_order(scene, described);
   }
   const auto t_topology = Clock::now();
   DetectSettings settings;
@@ -113,7 +125,6 @@ Intersections find_intersections(const std::vector<Mesh>& input, const DetectOpt
     }
   });
   add_contours(traced, result, options.separation);
-  to_input_indices(canon, result);
   // Movable vertices inside the obstacles, on the positions as given (the verdict of `fix` is
   // taken on the files written and read back).
   std::vector<Role> role;
@@ -122,6 +133,7 @@ Intersections find_intersections(const std::vector<Mesh>& input, const DetectOpt
   find_inside_vertices(topo, role, ObstacleWinding(topo, role), {}, options.threads, inside);
   result.counts.inside_by_mesh = inside_per_mesh(topo, inside);
   for (std::size_t n : result.counts.inside_by_mesh) result.counts.inside_vertices += n;
+  to_input_indices(scene, result);
   const auto t2 = Clock::now();
   if (timings != nullptr) {
     timings->detect_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();

@@ -1,8 +1,16 @@
-// Canonical renumbering of a mesh, so that the repair's result does not depend on the order of
-// vertices and faces in the file.
+// Canonical renumbering of a mesh, and canonical order of a scene's meshes, so that the repair's
+// result depends neither on the order of vertices and faces in the file nor on the order in which
+// the meshes are listed.
 #include "resolve/canonical_order.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numeric>
+#include <tuple>
+#include <utility>
+
+#include "geometry/vec3.h"
 
 namespace untangle {
 
@@ -53,6 +61,99 @@ CanonicalMesh canonical(const Mesh& input) {
     if (t < input.triangle_group.size()) out.mesh.triangle_group.push_back(input.triangle_group[t]);
   }
   return out;
+}
+
+namespace {
+
+// Steps 1 to 3 of the canonical mesh order (canonical_order.h), computed once per mesh: what the
+// repair leaves as it was (it moves positions only), so the written meshes take the same order.
+struct MeshKey {
+  int role = 0;
+  std::size_t vertices = 0, triangles = 0;
+  std::vector<std::size_t> valence_counts;  // [v] = how many vertices have v neighbours
+  std::size_t pinned = 0;
+
+  auto tied() const { return std::tie(role, vertices, triangles, valence_counts, pinned); }
+};
+
+MeshKey key_of(const Mesh& mesh, const std::vector<std::uint8_t>& pins) {
+  MeshKey key;
+  key.role = static_cast<int>(mesh.role);
+  key.vertices = mesh.positions.size();
+  key.triangles = mesh.triangles.size();
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
+  edges.reserve(3 * mesh.triangles.size());
+  for (const Triangle& t : mesh.triangles) {
+    if (t[0] >= key.vertices || t[1] >= key.vertices || t[2] >= key.vertices) continue;
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  std::vector<std::size_t> valence(key.vertices, 0);
+  for (const auto& [a, b] : edges) {
+    ++valence[a];
+    ++valence[b];
+  }
+  for (std::size_t v : valence) {
+    if (v >= key.valence_counts.size()) key.valence_counts.resize(v + 1, 0);
+    ++key.valence_counts[v];
+  }
+  for (const std::uint8_t pin : pins) key.pinned += pin != 0 ? 1 : 0;
+  return key;
+}
+
+}  // namespace
+
+CanonicalScene canonical_scene(const std::vector<Mesh>& input,
+                               const std::vector<std::vector<std::uint8_t>>& pins) {
+  const std::size_t n = input.size();
+  std::vector<CanonicalMesh> renumbered;
+  std::vector<MeshKey> keys;
+  std::vector<std::vector<std::uint8_t>> canonical_pins(n);
+  renumbered.reserve(n);
+  keys.reserve(n);
+  for (std::size_t m = 0; m < n; ++m) {
+    renumbered.push_back(canonical(input[m]));
+    if (m < pins.size() && !pins[m].empty()) {
+      const auto& order = renumbered[m].vertex_order;
+      canonical_pins[m].assign(order.size(), 0);
+      for (std::size_t k = 0; k < order.size(); ++k)
+        if (order[k] < pins[m].size()) canonical_pins[m][k] = pins[m][order[k]];
+    }
+    keys.push_back(key_of(renumbered[m].mesh, canonical_pins[m]));
+  }
+  CanonicalScene scene;
+  scene.mesh_order.resize(n);
+  std::iota(scene.mesh_order.begin(), scene.mesh_order.end(), 0u);
+  std::sort(scene.mesh_order.begin(), scene.mesh_order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    if (keys[a].tied() != keys[b].tied()) return keys[a].tied() < keys[b].tied();
+    return a < b;
+  });
+  scene.mesh_rank.resize(n);
+  for (std::uint32_t c = 0; c < n; ++c) scene.mesh_rank[scene.mesh_order[c]] = c;
+  for (std::uint32_t m : scene.mesh_order) {
+    scene.meshes.push_back(std::move(renumbered[m].mesh));
+    renumbered[m].mesh = Mesh{};
+    scene.renumbering.push_back(std::move(renumbered[m]));
+    scene.pins.push_back(std::move(canonical_pins[m]));
+  }
+  return scene;
+}
+
+void counts_in_input_order(const CanonicalScene& scene, IntersectionCounts& counts) {
+  counts.inside_by_mesh = in_input_order(scene, counts.inside_by_mesh);
+  for (MeshContact& c : counts.contacts) {
+    const std::uint32_t a = scene.mesh_order[c.mesh_a], b = scene.mesh_order[c.mesh_b];
+    c.mesh_a = std::min(a, b);
+    c.mesh_b = std::max(a, b);
+  }
+  std::sort(counts.contacts.begin(), counts.contacts.end(),
+            [](const MeshContact& x, const MeshContact& y) {
+              return std::tie(x.mesh_a, x.mesh_b) < std::tie(y.mesh_a, y.mesh_b);
+            });
 }
 
 }  // namespace untangle

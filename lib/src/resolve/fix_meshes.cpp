@@ -1,5 +1,6 @@
-// fix_meshes: the repair on a canonical renumbering of the meshes, mapped back to their order,
-// retried with a larger clearance when it ends unresolved (FixOptions::retries).
+// fix_meshes: the repair on the canonical scene (canonical_order.h), mapped back to the order of the
+// meshes and their vertices, retried with a larger clearance when it ends unresolved
+// (FixOptions::retries), and continued when asked (FixOptions::continuation).
 #include <algorithm>
 
 #include "resolve/canonical_order.h"
@@ -67,21 +68,11 @@ const char* to_string(FixMethod method) {
 
 FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                      const std::function<Vec3(const Vec3&)>& round, const FixProgress& progress) {
-  std::vector<CanonicalMesh> renumbered;
-  renumbered.reserve(meshes.size());
-  for (const Mesh& mesh : meshes) renumbered.push_back(canonical(mesh));
-  std::vector<Mesh> work;
-  work.reserve(meshes.size());
-  PinMask work_pins(pins.size());
-  for (std::size_t m = 0; m < meshes.size(); ++m) {
-    work.push_back(std::move(renumbered[m].mesh));
-    if (m < pins.size() && !pins[m].empty()) {
-      const auto& order = renumbered[m].vertex_order;
-      work_pins[m].assign(order.size(), 0);
-      for (std::size_t k = 0; k < order.size(); ++k)
-        if (order[k] < pins[m].size()) work_pins[m][k] = pins[m][order[k]];
-    }
-  }
+  // The repair runs on the canonical scene (canonical_order.h): every mesh renumbered, the meshes
+  // in an order of their own, so that neither the file's order nor the listing order matters.
+  CanonicalScene scene = canonical_scene(meshes, pins);
+  std::vector<Mesh>& work = scene.meshes;
+  const PinMask& work_pins = scene.pins;
 
   // Retries and the continuation start from the input again: keep it while there may be one.
   const std::vector<Mesh> start =
@@ -140,11 +131,13 @@ FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const
     }
   }
 
-  for (std::size_t m = 0; m < meshes.size(); ++m) {
-    const auto& order = renumbered[m].vertex_order;
-    for (std::size_t k = 0; k < order.size(); ++k)
-      meshes[m].positions[order[k]] = work[m].positions[k];
-  }
+  counts_in_input_order(scene, result.before);
+  counts_in_input_order(scene, result.after);
+  result.quality = in_input_order(scene, result.quality);
+  std::vector<std::vector<Vec3>> positions;
+  for (Mesh& m : work) positions.push_back(std::move(m.positions));
+  positions = vertices_in_input_order(scene, positions);
+  for (std::size_t m = 0; m < meshes.size(); ++m) meshes[m].positions = std::move(positions[m]);
   return result;
 }
 

@@ -1,8 +1,9 @@
 // illegal_vertices: detection, contours and region analysis as one repair step runs them, and the
-// winding-number inside test, on the meshes as given.
+// winding-number inside test, on the canonical scene a repair starts from.
 #include "resolve/illegal_vertices.h"
 
 #include "contour/build_contours.h"
+#include "resolve/canonical_order.h"
 #include "detect/detect_crossings.h"
 #include "resolve/inside_vertices.h"
 #include "resolve/region_analysis.h"
@@ -11,8 +12,10 @@
 
 namespace untangle {
 
-std::vector<std::vector<std::uint8_t>> illegal_vertices(const std::vector<Mesh>& meshes,
+std::vector<std::vector<std::uint8_t>> illegal_vertices(const std::vector<Mesh>& input,
                                                         bool outside_closed_obstacles, int threads) {
+  const CanonicalScene scene = canonical_scene(input);
+  const std::vector<Mesh>& meshes = scene.meshes;
   const SceneTopology topo = build_topology(meshes);
   std::vector<Role> role;
   DetectSettings detect;
@@ -46,7 +49,7 @@ std::vector<std::vector<std::uint8_t>> illegal_vertices(const std::vector<Mesh>&
     for (std::size_t i = 0; i < meshes[m].positions.size() && i < topo.welded[m].size(); ++i)
       out[m][i] = illegal[topo.welded[m][i]];
   }
-  return out;
+  return vertices_in_input_order(scene, out);
 }
 
 }  // namespace untangle

@@ -65,7 +65,8 @@ void lay_crossing(const SceneTopology& topo, const RawCrossing& x, bool edge_out
 // (its area vote, turned by that sign). Interleaved layers lie on both sides of each other, and
 // from each one's faces the other can look outer, so both views are weighed and the one with the
 // larger margin is outer, whichever is listed first. The mover is laid on the inner one's outer
-// side. Without an obstacle the component with the higher index moves, to the side most of its
+// side. Without an obstacle the component with the higher index (the meshes are in canonical
+// order, canonical_order.h, not necessarily the listing order) moves, to the side most of its
 // near vertices lie on.
 LayerOrder decide_layer_order(const RepairContext& ctx, SurfaceTrees& surfaces, std::uint32_t a,
                               std::uint32_t b) {
@@ -262,8 +263,8 @@ ComponentPairs layered_pairs(const RepairContext& ctx, SurfaceTrees& surfaces,
 
 // Two components that cross but where neither side has an illegal region (a garment and an exact
 // or nearly exact copy of it; sheets lying in one plane; a garment lying on an obstacle): the
-// contours separate nothing, so the layers are told apart by index. The movable component with the
-// higher index is laid on the side of the other where most of its near vertices lie (an exact
+// contours separate nothing, so the layers are told apart by index (in the canonical order of
+// meshes, canonical_order.h). The movable component with the higher index is laid on the side of the other where most of its near vertices lie (an exact
 // copy: the positive side of the other's face normals) at the clearance, wherever it is closer
 // than half an edge. Layered pairs go to lay_layer instead.
 void separate_coincident_layers(const RepairContext& ctx, SurfaceTrees& surfaces,
