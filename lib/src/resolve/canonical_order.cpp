@@ -4,13 +4,10 @@
 #include "resolve/canonical_order.h"
 
 #include <algorithm>
-#include <cmath>
-#include <cstring>
 #include <numeric>
 #include <tuple>
 #include <utility>
 
-#include "geometry/vec3.h"
 
 namespace untangle {
 
