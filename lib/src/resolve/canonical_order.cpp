@@ -4,6 +4,8 @@
 #include "resolve/canonical_order.h"
 
 #include <algorithm>
+#include <array>
+#include <cstring>
 #include <numeric>
 #include <tuple>
 #include <utility>
@@ -13,14 +15,31 @@ namespace untangle {
 CanonicalMesh canonical(const Mesh& input) {
   CanonicalMesh out;
   const std::size_t nv = input.positions.size();
+  // Vertices by position (x, then y, then z), equal positions by index. Sorted on integer keys
+  // that order as the doubles do (readers refuse NaN; -0.0 is keyed as 0.0, which it equals).
+  struct VertexKey {
+    std::array<std::uint64_t, 3> position;
+    std::uint32_t index;
+  };
+  auto key_of = [](double x) {
+    if (x == 0.0) x = 0.0;
+    std::uint64_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    return bits >> 63 ? ~bits : bits | (std::uint64_t(1) << 63);
+  };
+  std::vector<VertexKey> vertex_keys(nv);
+  for (std::uint32_t i = 0; i < nv; ++i) {
+    const Vec3& p = input.positions[i];
+    vertex_keys[i] = {{key_of(p[0]), key_of(p[1]), key_of(p[2])}, i};
+  }
+  std::sort(vertex_keys.begin(), vertex_keys.end(), [](const VertexKey& a, const VertexKey& b) {
+    if (a.position[0] != b.position[0]) return a.position[0] < b.position[0];
+    if (a.position[1] != b.position[1]) return a.position[1] < b.position[1];
+    if (a.position[2] != b.position[2]) return a.position[2] < b.position[2];
+    return a.index < b.index;
+  });
   out.vertex_order.resize(nv);
-  for (std::uint32_t i = 0; i < nv; ++i) out.vertex_order[i] = i;
-  std::sort(out.vertex_order.begin(), out.vertex_order.end(),
-            [&](std::uint32_t a, std::uint32_t b) {
-              const Vec3& pa = input.positions[a];
-              const Vec3& pb = input.positions[b];
-              return pa != pb ? pa < pb : a < b;
-            });
+  for (std::uint32_t k = 0; k < nv; ++k) out.vertex_order[k] = vertex_keys[k].index;
   std::vector<std::uint32_t> rank(nv);
   for (std::uint32_t k = 0; k < nv; ++k) rank[out.vertex_order[k]] = k;
 
@@ -36,12 +55,23 @@ CanonicalMesh canonical(const Mesh& input) {
     std::rotate(tri.begin(), tri.begin() + first, tri.end());
     rotated[t] = tri;
   }
+  // Triangles by their rotated corners, equal ones by index: one 64-bit key of the first two
+  // corners, then the third, then the index.
+  struct TriangleKey {
+    std::uint64_t first_two;
+    std::uint32_t third, index;
+  };
+  std::vector<TriangleKey> triangle_keys(nt);
+  for (std::uint32_t t = 0; t < nt; ++t)
+    triangle_keys[t] = {std::uint64_t(rotated[t][0]) << 32 | rotated[t][1], rotated[t][2], t};
+  std::sort(triangle_keys.begin(), triangle_keys.end(), [](const TriangleKey& a, const TriangleKey& b) {
+    if (a.first_two != b.first_two) return a.first_two < b.first_two;
+    if (a.third != b.third) return a.third < b.third;
+    return a.index < b.index;
+  });
   std::vector<std::uint32_t>& tri_order = out.triangle_order;
   tri_order.resize(nt);
-  for (std::uint32_t t = 0; t < nt; ++t) tri_order[t] = t;
-  std::sort(tri_order.begin(), tri_order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return rotated[a] != rotated[b] ? rotated[a] < rotated[b] : a < b;
-  });
+  for (std::uint32_t t = 0; t < nt; ++t) tri_order[t] = triangle_keys[t].index;
 
   out.mesh.path = input.path;
   out.mesh.name = input.name;
