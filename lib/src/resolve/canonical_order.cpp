@@ -107,22 +107,36 @@ MeshKey key_of(const Mesh& mesh, const std::vector<std::uint8_t>& pins) {
   key.role = static_cast<int>(mesh.role);
   key.vertices = mesh.positions.size();
   key.triangles = mesh.triangles.size();
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> edges;
-  edges.reserve(3 * mesh.triangles.size());
-  for (const Triangle& t : mesh.triangles) {
-    if (t[0] >= key.vertices || t[1] >= key.vertices || t[2] >= key.vertices) continue;
-    for (int k = 0; k < 3; ++k) {
-      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
-      if (a != b) edges.emplace_back(std::min(a, b), std::max(a, b));
-    }
-  }
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-  std::vector<std::size_t> valence(key.vertices, 0);
-  for (const auto& [a, b] : edges) {
-    ++valence[a];
-    ++valence[b];
-  }
+  // Each vertex's distinct neighbours: its neighbours through triangle edges listed per vertex
+  // (CSR), repeats told apart by a stamp.
+  const std::size_t nv = key.vertices;
+  std::vector<std::uint32_t> begin(nv + 1, 0);
+  auto valid = [nv](const Triangle& t) { return t[0] < nv && t[1] < nv && t[2] < nv; };
+  for (const Triangle& t : mesh.triangles)
+    if (valid(t))
+      for (int k = 0; k < 3; ++k)
+        if (t[k] != t[(k + 1) % 3]) {
+          ++begin[t[k] + 1];
+          ++begin[t[(k + 1) % 3] + 1];
+        }
+  for (std::size_t v = 0; v < nv; ++v) begin[v + 1] += begin[v];
+  std::vector<std::uint32_t> neighbours(begin[nv]), fill(begin.begin(), begin.end() - 1);
+  for (const Triangle& t : mesh.triangles)
+    if (valid(t))
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+        if (a == b) continue;
+        neighbours[fill[a]++] = b;
+        neighbours[fill[b]++] = a;
+      }
+  std::vector<std::size_t> valence(nv, 0);
+  std::vector<std::uint32_t> stamp(nv, static_cast<std::uint32_t>(-1));
+  for (std::uint32_t v = 0; v < nv; ++v)
+    for (std::uint32_t i = begin[v]; i < begin[v + 1]; ++i)
+      if (stamp[neighbours[i]] != v) {
+        stamp[neighbours[i]] = v;
+        ++valence[v];
+      }
   for (std::size_t v : valence) {
     if (v >= key.valence_counts.size()) key.valence_counts.resize(v + 1, 0);
     ++key.valence_counts[v];
