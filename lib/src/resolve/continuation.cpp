@@ -54,7 +54,7 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
   ContinuationPlan plan;
   const SceneTopology topo = build_topology(meshes);
   const SceneMeasures measures = measure_scene(topo, meshes, pins, options.threads);
-  const ObstacleWinding winding(topo, measures.role);
+  const ObstacleWinding winding(topo, measures.role, options.threads);
   if (!winding.any()) return plan;
 
   std::vector<std::uint32_t> obstacle_tris;

@@ -27,7 +27,7 @@ std::vector<std::vector<std::uint8_t>> illegal_vertices(const std::vector<Mesh>&
     detect.skip_among.push_back(m.role == Role::kObstacle);
     settings.obstacle.push_back(m.role == Role::kObstacle);
   }
-  const ObstacleWinding winding(topo, role);
+  const ObstacleWinding winding(topo, role, threads);
   settings.orientation = closed_orientations(topo);
   settings.winding = &winding;
   const CrossingSet set = detect_crossings(topo, detect);

@@ -49,7 +49,8 @@ bool has_inside(const SceneTopology& topo, std::uint32_t m) {
 
 }  // namespace
 
-ObstacleWinding::ObstacleWinding(const SceneTopology& topo, const std::vector<Role>& role)
+ObstacleWinding::ObstacleWinding(const SceneTopology& topo, const std::vector<Role>& role,
+                                 int threads)
     : slot_(role.size(), kNone), sign_(role.size(), 1.0) {
   for (std::uint32_t m = 0; m < role.size(); ++m) {
     if (role[m] != Role::kObstacle) continue;
@@ -58,7 +59,7 @@ ObstacleWinding::ObstacleWinding(const SceneTopology& topo, const std::vector<Ro
     if (tris.empty() || !has_inside(topo, m)) continue;
     slot_[m] = static_cast<std::uint32_t>(numbers_.size());
     obstacles_.push_back(m);
-    numbers_.emplace_back(topo.points, tris);
+    numbers_.emplace_back(topo.points, tris, threads);
     if (numbers_.back().signed_volume() < 0.0) sign_[m] = -1.0;
   }
 }

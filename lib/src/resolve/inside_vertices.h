@@ -22,8 +22,9 @@ class ObstacleWinding {
  public:
   static constexpr double kMaxHoleArea = 0.05;
 
-  // The obstacle meshes of `topo` (role per mesh) at its current positions.
-  ObstacleWinding(const SceneTopology& topo, const std::vector<Role>& role);
+  // The obstacle meshes of `topo` (role per mesh) at its current positions; each hierarchy built
+  // on `threads` threads (0: all cores), the same for every count.
+  ObstacleWinding(const SceneTopology& topo, const std::vector<Role>& role, int threads = 1);
   // The winding number of obstacle mesh `mesh` at p, turned for an inside-out mesh (0 for a
   // movable mesh and for an obstacle without an inside).
   double winding(std::uint32_t mesh, const Vec3& p) const;

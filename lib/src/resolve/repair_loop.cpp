@@ -56,7 +56,7 @@ class RepairLoop {
         round_(round),
         topo_(build_topology(meshes)),
         measures_(measure_scene(topo_, meshes, pins, options.threads)),
-        winding_(topo_, measures_.role),
+        winding_(topo_, measures_.role, options.threads),
         trees_(topo_, measures_),
         measured_(topo_),
         scratch_(topo_.points.size()) {

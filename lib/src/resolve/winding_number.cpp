@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "detect/run_parallel.h"
 #include "geometry/vec3.h"
 
 namespace untangle {
@@ -27,10 +28,23 @@ Vec3 centroid(const std::array<Vec3, 3>& t) {
   return scale(add(add(t[0], t[1]), t[2]), 1.0 / 3.0);
 }
 
+// Nodes of the hierarchy over n triangles: ranges halved (the left one the smaller) down to
+// kLeafSize. Only two sizes occur at each level, so a short memo keeps it linear.
+std::uint32_t node_count(std::uint32_t n) {
+  static thread_local std::vector<std::pair<std::uint32_t, std::uint32_t>> memo;
+  if (n <= kLeafSize) return 1;
+  for (const auto& [size, count] : memo)
+    if (size == n) return count;
+  const std::uint32_t count = 1 + node_count(n / 2) + node_count(n - n / 2);
+  if (memo.size() > 256) memo.clear();
+  memo.push_back({n, count});
+  return count;
+}
+
 }  // namespace
 
 WindingNumber::WindingNumber(const std::vector<Vec3>& points,
-                             const std::vector<std::array<std::uint32_t, 3>>& tris) {
+                             const std::vector<std::array<std::uint32_t, 3>>& tris, int threads) {
   std::vector<Item> items;
   items.reserve(tris.size());
   for (const auto& t : tris) {
@@ -44,16 +58,24 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points,
     volume_ += dot(points[t[0]], cross(points[t[1]], points[t[2]])) / 6.0;
   }
   if (items.empty()) return;
-  nodes_.reserve(2 * items.size() / kLeafSize + 2);
-  build(items, 0, static_cast<std::uint32_t>(items.size()));
+  const auto n = static_cast<std::uint32_t>(items.size());
+  nodes_.resize(node_count(n));
+  // The top levels on this thread, the subtrees below them in parallel (each into its own nodes
+  // and items): the same nodes as one recursive build.
+  std::vector<Pending> pending;
+  const int depth = threads == 1 || n < 4096 ? -1 : 2;
+  build(items, 0, n, 0, depth, pending);
+  run_parallel(threads, pending.size(), 1, [&](std::size_t begin, std::size_t end) {
+    std::vector<Pending> none;
+    for (std::size_t k = begin; k < end; ++k)
+      build(items, pending[k].begin, pending[k].end, pending[k].id, -1, none);
+  });
   tri_.reserve(items.size());
   for (const Item& item : items) tri_.push_back(item.tri);
 }
 
-std::uint32_t WindingNumber::build(std::vector<Item>& items, std::uint32_t begin,
-                                   std::uint32_t end) {
-  const std::uint32_t id = static_cast<std::uint32_t>(nodes_.size());
-  nodes_.push_back({});
+void WindingNumber::build(std::vector<Item>& items, std::uint32_t begin, std::uint32_t end,
+                          std::uint32_t id, int depth, std::vector<Pending>& pending) {
   Node node;
   node.begin = begin;
   node.end = end;
@@ -94,11 +116,17 @@ std::uint32_t WindingNumber::build(std::vector<Item>& items, std::uint32_t begin
                          return a.centroid[axis] < b.centroid[axis];
                        return a.tri < b.tri;
                      });
-    node.left = build(items, begin, mid);
-    node.right = build(items, mid, end);
+    node.left = id + 1;
+    node.right = id + 1 + node_count(mid - begin);
+    if (depth == 0) {
+      pending.push_back({begin, mid, node.left});
+      pending.push_back({mid, end, node.right});
+    } else {
+      build(items, begin, mid, node.left, depth - 1, pending);
+      build(items, mid, end, node.right, depth - 1, pending);
+    }
   }
   nodes_[id] = node;
-  return id;
 }
 
 double WindingNumber::operator()(const Vec3& p) const {

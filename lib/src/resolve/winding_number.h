@@ -21,9 +21,10 @@ class WindingNumber {
  public:
   static constexpr double kFarField = 2.0;
 
-  // The triangles `tris` of `points` (corners as indices), in the given order.
+  // The triangles `tris` of `points` (corners as indices), in the given order. The hierarchy is
+  // built on `threads` threads (0: all cores), the same bits for every count.
   WindingNumber(const std::vector<Vec3>& points,
-                const std::vector<std::array<std::uint32_t, 3>>& tris);
+                const std::vector<std::array<std::uint32_t, 3>>& tris, int threads = 1);
   double operator()(const Vec3& p) const;
   // The signed volume the triangles enclose (negative for an inward surface).
   double signed_volume() const { return volume_; }
@@ -42,7 +43,15 @@ class WindingNumber {
     Vec3 area_vector{}, centroid{}, weighted{};  // weighted: the centroid times the area
     double area = 0.0;
   };
-  std::uint32_t build(std::vector<Item>& items, std::uint32_t begin, std::uint32_t end);
+  // A subtree of triangles [begin, end) still to build, its root at node `id`.
+  struct Pending {
+    std::uint32_t begin, end, id;
+  };
+  // Builds node `id` over items [begin, end) and, below `depth` levels, its subtree; the subtrees
+  // left at `depth` are appended to `pending` (depth < 0: none left). Node ids are those of a
+  // pre-order numbering (node_count), so the parts can be built in any order.
+  void build(std::vector<Item>& items, std::uint32_t begin, std::uint32_t end, std::uint32_t id,
+             int depth, std::vector<Pending>& pending);
 
   std::vector<std::array<Vec3, 3>> tri_;
   std::vector<Node> nodes_;

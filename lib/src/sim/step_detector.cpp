@@ -17,7 +17,7 @@ StepDetector::StepDetector(const std::vector<Mesh>& meshes, int threads)
 void StepDetector::build_obstacles() {
   obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, settings_.skip_among);
   settings_.skipped_bvh = obstacle_bvh_.get();
-  winding_ = std::make_unique<ObstacleWinding>(topo_, role_);
+  winding_ = std::make_unique<ObstacleWinding>(topo_, role_, settings_.threads);
   hierarchy_ = std::make_unique<SceneHierarchy>(topo_, settings_);
   set_ = detect_crossings(topo_, settings_);
   find_inside_vertices(topo_, role_, *winding_, {}, settings_.threads, inside_);
