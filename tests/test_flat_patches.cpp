@@ -135,10 +135,9 @@ TEST(FlatPatches, CapAroundAnObliqueDirectionIsSkipped) {
   turn_to(cap, {third, third, third});
   finish(cap);
   const SceneTopology topo = build_topology({cap});
-  // Nearly all of it in a few patches (which patches is a matter of seeds: only speed), and the
-  // pairs skipped hold no crossing.
-  EXPECT_GE(flat_triangles(topo), topo.tris.size() - 4);
-  EXPECT_LE(flat_patches(topo), 4u);
+  // Most of it in patches (which ones, and how many, is a matter of seeds and only speed depends
+  // on it), and the pairs skipped hold no crossing.
+  EXPECT_GE(10 * flat_triangles(topo), 9 * topo.tris.size());
   EXPECT_TRUE(brute_force(topo).empty());
   EXPECT_TRUE(detected(topo).empty());
 }

@@ -55,11 +55,21 @@ const Direction kDirection[kDirections] = {
     {-1, {1, 1, -1}, {-1, 1, 0}, {1, 1, 2}}, {-1, {1, -1, 1}, {-1, -1, 0}, {1, -1, -2}},
     {-1, {1, -1, -1}, {1, 1, 0}, {1, -1, 2}}};
 
-// 1 / |w| per direction.
-const double kInverseLength[kDirections] = {1.0, 1.0, 1.0, 0.70710678118654752, 0.70710678118654752,
-                                            0.70710678118654752, 0.70710678118654752, 0.70710678118654752,
-                                            0.70710678118654752, 0.57735026918962576, 0.57735026918962576,
-                                            0.57735026918962576, 0.57735026918962576};
+// 1 / |w| of direction k.
+double inverse_length(int k) { return 1.0 / std::sqrt(dot(kDirection[k].w, kDirection[k].w)); }
+
+// Whether `next` (vertex -> the loop's next vertex, or kNone) leads from `start` back to it after
+// exactly `size` steps; the vertices on the way into `loop`.
+bool walk_loop(const std::vector<std::uint32_t>& next, std::uint32_t start, std::size_t size,
+               std::vector<std::uint32_t>& loop) {
+  loop.clear();
+  std::uint32_t v = start;
+  do {
+    loop.push_back(v);
+    v = next[v];
+  } while (v != kNone && v != start && loop.size() < size);
+  return v == start && loop.size() == size;
+}
 
 // The exact turn of a, b, c projected along direction k, in its frame (+1 counter-clockwise, 0
 // collinear).
@@ -190,17 +200,7 @@ bool flat_patch(const SceneTopology& topo, const std::uint32_t* tris, std::size_
     ++boundary;
   }
   // One loop through every boundary edge: from `start`, back there after exactly `boundary` steps.
-  s.loop.clear();
-  if (ok && boundary >= 3) {
-    std::uint32_t v = start;
-    do {
-      s.loop.push_back(v);
-      v = s.next[v];
-    } while (v != kNone && v != start && s.loop.size() < boundary);
-    ok = v == start && s.loop.size() == boundary;
-  } else {
-    ok = false;
-  }
+  ok = ok && boundary >= 3 && walk_loop(s.next, start, boundary, s.loop);
   for (const std::uint32_t e : s.edges) {
     s.next[topo.edges[e][0]] = s.next[topo.edges[e][1]] = kNone;
     s.net[e] = 0;
@@ -261,7 +261,7 @@ void TriangleBvh::mark_flat_patches(const SceneTopology& topo) {
     int k = 0;
     double best = -1.0;
     for (int d = 0; d < kDirections; ++d) {
-      const double along = std::abs(dot(n, kDirection[d].w)) * kInverseLength[d];
+      const double along = std::abs(dot(n, kDirection[d].w)) * inverse_length(d);
       if (along > best) {
         best = along;
         k = d;
@@ -270,7 +270,7 @@ void TriangleBvh::mark_flat_patches(const SceneTopology& topo) {
     const int sign = turn_of(seed, k);
     if (sign == 0) continue;
     const Vec3& w = kDirection[k].w;
-    const double w_length = 1.0 / kInverseLength[k];
+    const double w_length = 1.0 / inverse_length(k);
     ++growth;
     members.assign(1, seed);
     stamp[seed - base] = growth;
@@ -332,13 +332,7 @@ void TriangleBvh::mark_flat_patches(const SceneTopology& topo) {
     for (std::size_t limit = kFirstPatch;; limit *= 2) {
       grow(limit);
       // The disk's loop as the growth keeps it (flat_patch would find the same from its edges).
-      scratch.loop.clear();
-      std::uint32_t v = loop_start;
-      do {
-        scratch.loop.push_back(v);
-        v = loop_next[v];
-      } while (v != kNone && v != loop_start && scratch.loop.size() <= loop_size);
-      if (v != loop_start || scratch.loop.size() != loop_size ||
+      if (!walk_loop(loop_next, loop_start, loop_size, scratch.loop) ||
           !simple_polygon(topo.points, scratch, k))
         break;
       kept = members.size();
