@@ -130,8 +130,8 @@ Intersections find_intersections(const std::vector<Mesh>& input, const DetectOpt
   std::vector<Role> role;
   for (const Mesh& m : meshes) role.push_back(m.role);
   std::vector<std::uint32_t> inside;
-  find_inside_vertices(topo, role, ObstacleWinding(topo, role, options.threads), {}, options.threads,
-                       inside);
+  find_inside_by_parts(topo, role, ObstacleWinding(topo, role, options.threads), set,
+                       options.threads, inside);
   result.counts.inside_by_mesh = inside_per_mesh(topo, inside);
   for (std::size_t n : result.counts.inside_by_mesh) result.counts.inside_vertices += n;
   to_input_indices(scene, result);

@@ -39,7 +39,7 @@ std::vector<std::vector<std::uint8_t>> illegal_vertices(const std::vector<Mesh>&
     if (role[topo.component_mesh[s.component]] == Role::kMovable)
       for (std::uint32_t v : s.vertices) illegal[v] = 1;
   std::vector<std::uint32_t> inside(topo.points.size(), kNone);
-  find_inside_vertices(topo, role, winding, {}, threads, inside);
+  find_inside_by_parts(topo, role, winding, set, threads, inside);
   for (std::uint32_t v = 0; v < topo.points.size(); ++v)
     if (inside[v] != kNone) illegal[v] = 1;
 

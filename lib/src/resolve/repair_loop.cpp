@@ -105,13 +105,13 @@ class RepairLoop {
       if (!hierarchy) {
         set = detect_crossings(topo_, detect_);
         hierarchy = std::make_unique<SceneHierarchy>(topo_, detect_);
-        find_inside_vertices(topo_, measures_.role, winding_, {}, options_.threads, inside_);
+        find_inside_by_parts(topo_, measures_.role, winding_, set, options_.threads, inside_);
       } else {
         for (std::size_t v = 0; v < changed.size(); ++v)
           changed[v] = topo_.points[v] != before_step[v] ? 1 : 0;
         hierarchy->update(topo_, changed);
         set = update_crossings(topo_, detect_, *hierarchy, set, changed);
-        find_inside_vertices(topo_, measures_.role, winding_, changed, options_.threads, inside_);
+        find_inside_by_parts(topo_, measures_.role, winding_, set, options_.threads, inside_);
       }
       const auto t1 = Clock::now();
       const std::vector<TracedContour> traced = build_contours(topo_, set);

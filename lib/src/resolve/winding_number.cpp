@@ -16,10 +16,13 @@ constexpr std::uint32_t kLeafSize = 8;
 
 // The signed solid angle of triangle (a, b, c) seen from p (Van Oosterom and Strackee 1983):
 // positive when p lies on the side its winding's normal points away from.
-double solid_angle(const std::array<Vec3, 3>& t, const Vec3& p) {
+// `in_plane` is set when p lies in the triangle's plane up to rounding (|det| at most 1e-10 of the
+// product of the lengths): the angle may then be that of either side.
+double solid_angle(const std::array<Vec3, 3>& t, const Vec3& p, bool& in_plane) {
   const Vec3 a = sub(t[0], p), b = sub(t[1], p), c = sub(t[2], p);
   const double la = norm(a), lb = norm(b), lc = norm(c);
   const double det = dot(a, cross(b, c));
+  if (std::abs(det) <= 1e-10 * la * lb * lc) in_plane = true;
   const double div = la * lb * lc + dot(a, b) * lc + dot(b, c) * la + dot(c, a) * lb;
   return 2.0 * std::atan2(det, div);
 }
@@ -130,6 +133,11 @@ void WindingNumber::build(std::vector<Item>& items, std::uint32_t begin, std::ui
 }
 
 double WindingNumber::operator()(const Vec3& p) const {
+  bool in_plane = false;
+  return evaluate(p, in_plane);
+}
+
+double WindingNumber::evaluate(const Vec3& p, bool& in_plane) const {
   if (nodes_.empty()) return 0.0;
   double sum = 0.0;
   std::uint32_t stack[128];
@@ -142,7 +150,7 @@ double WindingNumber::operator()(const Vec3& p) const {
     if (d > kFarField * node.radius) {
       sum += dot(node.dipole, r) / (d * d * d);
     } else if (node.left == 0) {
-      for (std::uint32_t i = node.begin; i < node.end; ++i) sum += solid_angle(tri_[i], p);
+      for (std::uint32_t i = node.begin; i < node.end; ++i) sum += solid_angle(tri_[i], p, in_plane);
     } else {
       stack[top++] = node.right;
       stack[top++] = node.left;

@@ -26,6 +26,9 @@ class WindingNumber {
   WindingNumber(const std::vector<Vec3>& points,
                 const std::vector<std::array<std::uint32_t, 3>>& tris, int threads = 1);
   double operator()(const Vec3& p) const;
+  // The same, and sets `in_plane` when p lies in the plane of a triangle summed one by one, up to
+  // rounding (on the surface, or so near that the value may be that of either side).
+  double evaluate(const Vec3& p, bool& in_plane) const;
   // The signed volume the triangles enclose (negative for an inward surface).
   double signed_volume() const { return volume_; }
   bool empty() const { return tri_.empty(); }

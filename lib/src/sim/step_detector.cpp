@@ -20,7 +20,7 @@ void StepDetector::build_obstacles() {
   winding_ = std::make_unique<ObstacleWinding>(topo_, role_, settings_.threads);
   hierarchy_ = std::make_unique<SceneHierarchy>(topo_, settings_);
   set_ = detect_crossings(topo_, settings_);
-  find_inside_vertices(topo_, role_, *winding_, {}, settings_.threads, inside_);
+  find_inside_by_parts(topo_, role_, *winding_, set_, settings_.threads, inside_);
 }
 
 void StepDetector::detect(const std::vector<Mesh>& meshes, bool obstacles_moved) {
@@ -40,7 +40,7 @@ void StepDetector::detect(const std::vector<Mesh>& meshes, bool obstacles_moved)
   } else if (any) {
     hierarchy_->update(topo_, changed_);
     set_ = update_crossings(topo_, settings_, *hierarchy_, set_, changed_);
-    find_inside_vertices(topo_, role_, *winding_, changed_, settings_.threads, inside_);
+    find_inside_by_parts(topo_, role_, *winding_, set_, settings_.threads, inside_);
   }
   std::fill(changed_.begin(), changed_.end(), 0);
 }
