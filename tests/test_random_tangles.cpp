@@ -76,8 +76,11 @@ std::uint64_t env_count(const char* name, std::uint64_t fallback) {
 }
 
 // Seeds of the long run that once failed, run by default too: fix put two vertices of one mesh
-// on one point (closest-point and mirrored moves on grid-snapped input).
-constexpr std::uint64_t kRegressionSeeds[] = {247, 1329, 1367, 2450, 2546};
+// on one point (closest-point and mirrored moves on grid-snapped input); 793 and 1069 wrote a
+// state with self crossings the input did not have (numbered by the written positions, the
+// verdict decided a degeneracy the other way than the repair): now judged as check judges it and
+// reverted to the input.
+constexpr std::uint64_t kRegressionSeeds[] = {247, 793, 1069, 1329, 1367, 2450, 2546};
 
 std::vector<std::uint64_t> seeds_to_run() {
   const bool chosen = std::getenv("UNTANGLE_RANDOM_TANGLES_SEED") != nullptr ||
@@ -284,7 +287,7 @@ double largest_move_over_diagonal(const std::vector<Mesh>& input, const std::vec
 }
 
 struct Tally {
-  std::size_t cases = 0, tangled = 0, clean = 0, unresolved = 0;
+  std::size_t cases = 0, tangled = 0, clean = 0, unresolved = 0, reverted = 0;
   std::size_t crossings_before = 0, crossings_after = 0;
   double seconds = 0.0;
 };
@@ -370,6 +373,10 @@ void check_fix(const scenes::RandomTangle& tangle, Tally& tally) {
     }
     EXPECT_LE(largest_move_over_diagonal(input, written), FixOptions{}.max_written_move)
         << "unresolved, and a vertex moved further than max_written_move diagonals";
+    if (report["reverted"].get<bool>()) {
+      EXPECT_EQ(largest_move_over_diagonal(input, written), 0.0) << "reverted, but moved";
+      ++tally.reverted;
+    }
     ++tally.unresolved;
   }
   ++tally.cases;
@@ -384,10 +391,12 @@ TEST(RandomTangles, FixIsCleanOrListsWhatRemains) {
   for (std::uint64_t seed : seeds_to_run()) {
     check_fix(scenes::random_tangle(seed), tally);
   }
-  std::printf("[ random tangles ] %zu scenes (%zu tangled): %zu clean, %zu unresolved (exit 5); "
-              "crossings %zu before, %zu after; %.2f s per case\n",
-              tally.cases, tally.tangled, tally.clean, tally.unresolved, tally.crossings_before,
-              tally.crossings_after, tally.cases == 0 ? 0.0 : tally.seconds / tally.cases);
+  std::printf("[ random tangles ] %zu scenes (%zu tangled): %zu clean, %zu unresolved (exit 5, "
+              "%zu of them reverted to the input); crossings %zu before, %zu after; %.2f s per "
+              "case\n",
+              tally.cases, tally.tangled, tally.clean, tally.unresolved, tally.reverted,
+              tally.crossings_before, tally.crossings_after,
+              tally.cases == 0 ? 0.0 : tally.seconds / tally.cases);
   RecordProperty("clean", static_cast<int>(tally.clean));
   RecordProperty("unresolved", static_cast<int>(tally.unresolved));
 }

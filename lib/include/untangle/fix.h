@@ -203,6 +203,11 @@ struct FixResult {
   std::vector<RetryRecord> retries;
   double clearance = 0.0;  // the clearance of the attempt kept
   ContinuationRecord continuation;
+  // The final state, detected as `check` detects it (numbered by its own positions, where the
+  // repair numbered by the input's: an exact degeneracy can be decided the other way), had a kind
+  // of crossing the repair did not count and more of it than the input, or a vertex moved
+  // further than max_written_move: the input's positions were returned instead (unresolved).
+  bool reverted = false;
 };
 
 // Per mesh, per input vertex: 1 = pinned (never moves). Empty = nothing pinned.

@@ -160,6 +160,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   j["options"] = opts;
   j["iterations"] = result.iterations;
   j["stalled"] = result.stalled;
+  j["reverted"] = result.reverted;
   j["clearance"] = result.clearance;
   Json retries = Json::array();
   for (const RetryRecord& r : result.retries) {
