@@ -63,73 +63,107 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points,
   if (items.empty()) return;
   const auto n = static_cast<std::uint32_t>(items.size());
   nodes_.resize(node_count(n));
-  // The top levels on this thread, the subtrees below them in parallel (each into its own nodes
-  // and items): the same nodes as one recursive build.
+  // The splits first, top down (the top levels on this thread, the subtrees below them in
+  // parallel, each into node slots of its own), then what each node sums, bottom up.
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
   std::vector<Pending> pending;
   const int depth = threads == 1 || n < 4096 ? -1 : 2;
-  build(items, 0, n, 0, depth, pending);
+  std::vector<Vec3> centroids(n);  // the split keys, packed
+  for (std::uint32_t i = 0; i < n; ++i) centroids[i] = items[i].centroid;
+  split(items, centroids, order, 0, n, 0, depth, pending);
   run_parallel(threads, pending.size(), 1, [&](std::size_t begin, std::size_t end) {
     std::vector<Pending> none;
     for (std::size_t k = begin; k < end; ++k)
-      build(items, pending[k].begin, pending[k].end, pending[k].id, -1, none);
+      split(items, centroids, order, pending[k].begin, pending[k].end, pending[k].id, -1, none);
   });
+  // Pre-order ids: children after their parent, so one pass from the last id up sums them.
+  std::vector<Vec3> weighted(nodes_.size());
+  std::vector<double> area(nodes_.size(), 0.0);
+  for (std::size_t id = nodes_.size(); id-- > 0;) {
+    Node& node = nodes_[id];
+    Vec3 dipole{0, 0, 0}, sum{0, 0, 0};
+    double a = 0.0;
+    if (node.left == 0) {
+      Vec3 lo = items[order[node.begin]].tri[0], hi = lo;
+      for (std::uint32_t i = node.begin; i < node.end; ++i) {
+        const Item& item = items[order[i]];
+        dipole = add(dipole, item.area_vector);
+        sum = add(sum, item.weighted);
+        a += item.area;
+        for (const Vec3& q : item.tri)
+          for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], q[k]);
+            hi[k] = std::max(hi[k], q[k]);
+          }
+      }
+      node.centre = a > 0.0 ? scale(sum, 1.0 / a) : scale(add(lo, hi), 0.5);
+      // The largest squared distance, one root at the end (the root is monotone and correctly
+      // rounded: the largest of the corners' distances).
+      double farthest = 0.0;
+      for (std::uint32_t i = node.begin; i < node.end; ++i)
+        for (const Vec3& q : items[order[i]].tri) {
+          const Vec3 r = sub(q, node.centre);
+          farthest = std::max(farthest, dot(r, r));
+        }
+      node.radius = std::sqrt(farthest);
+    } else {
+      const Node& l = nodes_[node.left];
+      const Node& r = nodes_[node.right];
+      dipole = add(l.dipole, r.dipole);
+      sum = add(weighted[node.left], weighted[node.right]);
+      a = area[node.left] + area[node.right];
+      node.centre = a > 0.0 ? scale(sum, 1.0 / a) : scale(add(l.centre, r.centre), 0.5);
+      // A ball around the centre holding both children's balls: at least the farthest corner's
+      // distance (a far node is then farther than kFarField times its extent).
+      node.radius = std::max(norm(sub(l.centre, node.centre)) + l.radius,
+                             norm(sub(r.centre, node.centre)) + r.radius);
+    }
+    node.dipole = dipole;
+    weighted[id] = sum;
+    area[id] = a;
+  }
   tri_.reserve(items.size());
-  for (const Item& item : items) tri_.push_back(item.tri);
+  for (std::uint32_t i : order) tri_.push_back(items[i].tri);
 }
 
-void WindingNumber::build(std::vector<Item>& items, std::uint32_t begin, std::uint32_t end,
-                          std::uint32_t id, int depth, std::vector<Pending>& pending) {
-  Node node;
+void WindingNumber::split(const std::vector<Item>& items, const std::vector<Vec3>& centroids,
+                          std::vector<std::uint32_t>& order,
+                          std::uint32_t begin, std::uint32_t end, std::uint32_t id, int depth,
+                          std::vector<Pending>& pending) {
+  Node& node = nodes_[id];
   node.begin = begin;
   node.end = end;
-  double area = 0.0;
-  Vec3 weighted{0, 0, 0}, lo = items[begin].tri[0], hi = lo;
-  for (std::uint32_t i = begin; i < end; ++i) {
-    const Item& item = items[i];
-    node.dipole = add(node.dipole, item.area_vector);
-    weighted = add(weighted, item.weighted);
-    area += item.area;
-    for (const Vec3& q : item.tri) {
-      for (int k = 0; k < 3; ++k) {
-        lo[k] = std::min(lo[k], q[k]);
-        hi[k] = std::max(hi[k], q[k]);
-      }
+  if (end - begin <= kLeafSize) return;
+  // Split at the median centroid along the longest axis of the centroids' box; ties by the
+  // corners, so the order depends on the geometry alone. The indices move, not the items.
+  Vec3 lo = centroids[order[begin]], hi = lo;
+  for (std::uint32_t i = begin + 1; i < end; ++i) {
+    const Vec3& c = centroids[order[i]];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], c[k]);
+      hi[k] = std::max(hi[k], c[k]);
     }
   }
-  node.centre = area > 0.0 ? scale(weighted, 1.0 / area) : scale(add(lo, hi), 0.5);
-  // The largest squared distance, one root at the end: the root is monotone and correctly
-  // rounded, so this is the largest of the corners' distances, bit for bit.
-  double farthest = 0.0;
-  for (std::uint32_t i = begin; i < end; ++i)
-    for (const Vec3& q : items[i].tri) {
-      const Vec3 r = sub(q, node.centre);
-      farthest = std::max(farthest, dot(r, r));
-    }
-  node.radius = std::sqrt(farthest);
-  if (end - begin > kLeafSize) {
-    // Split at the median centroid along the box's longest axis; ties by the corners, so the
-    // order depends on the geometry alone.
-    int axis = 0;
-    for (int k = 1; k < 3; ++k)
-      if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
-    const std::uint32_t mid = begin + (end - begin) / 2;
-    std::nth_element(items.begin() + begin, items.begin() + mid, items.begin() + end,
-                     [axis](const Item& a, const Item& b) {
-                       if (a.centroid[axis] != b.centroid[axis])
-                         return a.centroid[axis] < b.centroid[axis];
-                       return a.tri < b.tri;
-                     });
-    node.left = id + 1;
-    node.right = id + 1 + node_count(mid - begin);
-    if (depth == 0) {
-      pending.push_back({begin, mid, node.left});
-      pending.push_back({mid, end, node.right});
-    } else {
-      build(items, begin, mid, node.left, depth - 1, pending);
-      build(items, mid, end, node.right, depth - 1, pending);
-    }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k)
+    if (hi[k] - lo[k] > hi[axis] - lo[axis]) axis = k;
+  const std::uint32_t mid = begin + (end - begin) / 2;
+  std::nth_element(order.begin() + begin, order.begin() + mid, order.begin() + end,
+                   [axis, &items, &centroids](std::uint32_t i, std::uint32_t j) {
+                     const double a = centroids[i][axis], b = centroids[j][axis];
+                     if (a != b) return a < b;
+                     return items[i].tri < items[j].tri;
+                   });
+  node.left = id + 1;
+  node.right = id + 1 + node_count(mid - begin);
+  if (depth == 0) {
+    pending.push_back({begin, mid, node.left});
+    pending.push_back({mid, end, node.right});
+  } else {
+    split(items, centroids, order, begin, mid, node.left, depth - 1, pending);
+    split(items, centroids, order, mid, end, node.right, depth - 1, pending);
   }
-  nodes_[id] = node;
 }
 
 double WindingNumber::operator()(const Vec3& p) const {
