@@ -9,13 +9,16 @@
 #include <CGAL/Side_of_triangle_mesh.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <random>
 #include <vector>
 
 #include "cgal_reference.h"
+#include "detect/triangle_bvh.h"
 #include "resolve/buried_faces.h"
 #include "resolve/region_analysis.h"
+#include "scenes/random_tangles.h"
 #include "scenes/scenes.h"
 #include "scenes/self_scenes.h"
 #include "topology/scene_topology.h"
@@ -201,6 +204,39 @@ TEST(BuriedFaces, CrumpledSpheresAsObstacles) {
     EXPECT_EQ(results[0][0].positions, results[1][0].positions) << "depends on the thread count";
   }
   EXPECT_GE(crossing_obstacles, 5u) << "the spheres were meant to pass through themselves";
+}
+
+// The pass skips the pairs inside flat patches (as detection's self pairs do). Two boxes through
+// each other as one closed obstacle, turned to no special direction: their faces are flat
+// patches, and the patches of one box cross those of the other. The crossing pairs the pass
+// counts are CGAL's self-intersecting pairs of the mesh, one for one, at one and two threads.
+TEST(BuriedFaces, FlatPatchesSkippedSamePairsAsCgal) {
+  for (int k = 0; k < 3; ++k) {
+    SCOPED_TRACE("boxes " + std::to_string(k));
+    const Mesh a = scenes::rotated(scenes::box_surface({0, 0, 0}, {1.0, 0.7, 0.5}, 5 + k, "a"), 0,
+                                   0.3137 + 0.1 * k, {0.0131, -0.0217, 0.0071});
+    const Mesh b = scenes::rotated(scenes::box_surface({0.6, 0.2, 0.1}, {0.8, 0.6, 0.9}, 4 + k, "b"),
+                                   1, 0.7411 - 0.2 * k, {0.2113, 0.1031, -0.0519});
+    Mesh both = scenes::merged(a, b, "boxes");
+    both.role = Role::kObstacle;
+    const SceneTopology topo = build_topology({both});
+    const std::vector<ClosedSurface> surfaces = closed_surfaces(topo);
+    ASSERT_EQ(surfaces.size(), 2u);  // one per box
+    std::vector<std::uint32_t> all = surfaces[0].triangles;
+    all.insert(all.end(), surfaces[1].triangles.begin(), surfaces[1].triangles.end());
+    std::sort(all.begin(), all.end());
+    TriangleBvh bvh(topo, all);
+    bvh.mark_flat_patches(topo);
+    EXPECT_GT(bvh.flat_patch_triangles(), both.triangles.size() / 2) << "the faces are patches";
+    const std::size_t cgal_pairs = cgal_reference::triangle_pairs({both}).size();
+    EXPECT_GT(cgal_pairs, 10u);
+    for (int threads : {1, 2}) {
+      std::size_t pairs = 0;
+      const std::vector<std::vector<std::uint8_t>> buried = buried_faces(topo, surfaces, threads, &pairs);
+      EXPECT_EQ(pairs, cgal_pairs);
+      EXPECT_GT(count(buried[0]) + count(buried[1]), 0u);  // faces of one box inside the other
+    }
+  }
 }
 
 }  // namespace

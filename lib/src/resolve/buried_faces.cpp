@@ -145,7 +145,12 @@ std::vector<std::vector<std::uint8_t>> buried_faces(const SceneTopology& topolog
 
   // The triangles of crossing pairs: where the intersection curves run. Each part of the descent
   // lists its own; the flags do not depend on the order they are joined in.
-  const TriangleBvh bvh(topology, all);
+  // The pairs inside one flat patch meet only where they share a vertex or an edge (exact, the
+  // same test as detection's self pairs): skipped, with the same crossing pairs found. A ground
+  // plate or a spike's flank is one patch instead of thousands of coplanar pairs for the
+  // perturbation to decide one by one.
+  TriangleBvh bvh(topology, all);
+  bvh.mark_flat_patches(topology);
   const std::vector<TriangleBvh::Part> parts = bvh.split(bvh, true, kParts);
   std::vector<std::vector<std::uint32_t>> found(parts.size());
   run_parallel(threads, parts.size(), 1, [&](std::size_t begin, std::size_t end) {
