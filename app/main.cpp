@@ -461,7 +461,8 @@ int main(int argc, char** argv) {
   simulate->add_option("scene", simulate_options.scene_file,
                        "Scene file (JSON: meshes, roles, pins, schedules, cloth parameters)");
   simulate->add_option("--example", simulate_options.example,
-                       "A built-in scene instead of a scene file: ball, box, spikes, cow or fitting")
+                       "A built-in scene instead of a scene file: ball, box, spikes, cow or fitting "
+                       "(its scene file is written as DIR/scene.json)")
       ->check(CLI::IsMember({"ball", "box", "spikes", "cow", "fitting"}))
       ->option_text("ball|box|spikes|cow|fitting");
   simulate->add_option("--output-dir", simulate_options.output_dir,

@@ -62,6 +62,51 @@ struct SceneInput {
   std::vector<std::size_t> meshes;
 };
 
+// The scene file of an example (SCENE FILES OF SIMULATE), its meshes at `inputs` (one file each,
+// beside it): every key load_scene_file reads, with the example's values, so that running it
+// gives the example's frames byte for byte and a user has every parameter in front of them.
+nlohmann::ordered_json example_scene_file(const SimulationScene& scene,
+                                          const std::vector<SceneInput>& inputs, int frames) {
+  const ClothOptions& c = scene.options;
+  nlohmann::ordered_json meshes = nlohmann::ordered_json::array();
+  for (const SceneInput& input : inputs) {
+    nlohmann::ordered_json m;
+    m["path"] = fs::path(input.path).filename().string();
+    m["role"] = input.role == Role::kObstacle ? "obstacle" : "cloth";
+    const std::size_t index = input.meshes[0];
+    if (index < scene.pins.size()) {
+      nlohmann::ordered_json pins = nlohmann::ordered_json::array();
+      for (std::size_t v = 0; v < scene.pins[index].size(); ++v)
+        if (scene.pins[index][v]) pins.push_back(v);
+      if (!pins.empty()) m["pins"] = pins;
+    }
+    for (const ObstacleSchedule& s : scene.schedules)
+      if (s.mesh == index)
+        m["schedule"] = {{"from", s.from},
+                         {"frames", s.frames},
+                         {"centre", {s.centre[0], s.centre[1], s.centre[2]}}};
+    meshes.push_back(m);
+  }
+  nlohmann::ordered_json j;
+  j["meshes"] = meshes;
+  j["frames"] = frames;
+  j["clearance"] = c.fix.clearance;
+  j["cloth"] = {{"gravity", {c.gravity[0], c.gravity[1], c.gravity[2]}},
+                {"time_step", c.time_step},
+                {"substeps", c.substeps},
+                {"solver_iterations", c.solver_iterations},
+                {"stretch", c.stretch},
+                {"bend", c.bend},
+                {"damping", c.damping},
+                {"density", c.density},
+                {"friction", c.friction},
+                {"restitution", c.restitution},
+                {"max_speed", c.max_speed},
+                {"contacts", c.contacts},
+                {"contact_reach", c.contact_reach}};
+  return j;
+}
+
 [[noreturn]] void bad_key(const std::string& file, const std::string& key, const std::string& why) {
   throw Error(ExitCode::kUnreadableInput, file, "'" + key + "': " + why);
 }
@@ -252,6 +297,7 @@ int run_simulate(const SimulateOptions& o) {
   } else {
     for (const SceneInput& input : inputs)
       written.push_back({input.path, "the start " + input.path});
+    written.push_back({(dir / "scene.json").string(), "the example's scene file"});
   }
   for (int f : saved)
     for (const SceneInput& input : inputs) {
@@ -281,9 +327,12 @@ int run_simulate(const SimulateOptions& o) {
     throw;
   }
 
-  if (example)
+  if (example) {
     for (const SceneInput& input : inputs)
       scenes::write_obj(scene.meshes[input.meshes[0]], input.path);
+    write_text_file_atomically((dir / "scene.json").string(),
+                               example_scene_file(scene, inputs, frames).dump(2) + "\n");
+  }
 
   nlohmann::ordered_json report;
   // 2: options.contacts and options.contact_reach replace hold_contacts and release_distance.

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <string>
+#include <tuple>
 #include <nlohmann/json.hpp>
 
 #include "scenes/random_tangles.h"
@@ -373,6 +375,38 @@ TEST(SimulateCli, WritesCheckedFramesAndAReport) {
   const testing::RunResult bad =
       testing::run_cli("simulate --example teapot --output-dir " + testing::quote(out));
   EXPECT_EQ(bad.exit_code, 2) << bad.err;
+}
+
+// An example writes its scene file beside its meshes (issue 19: something to start from), with
+// every parameter: run as a scene file it gives the example's frames byte for byte (the ball:
+// gravity and the cloth's defaults; the fitting: no gravity, the body's schedule and centre).
+TEST(SimulateCli, ExampleWritesItsSceneFile) {
+  testing::TempDir dir;
+  for (const auto& [example, frames, cloth] :
+       {std::tuple<std::string, int, std::string>{"ball", 3, "sheet"}, {"fitting", 1, "garment"}}) {
+    SCOPED_TRACE(example);
+    const std::string a = dir.file(example + "_example"), b = dir.file(example + "_scene");
+    const std::string n = std::to_string(frames);
+    const testing::RunResult first = testing::run_cli(
+        "simulate --example " + example + " --frames " + n + " -q --output-dir " + testing::quote(a));
+    ASSERT_EQ(first.exit_code, 0) << first.err;
+    const nlohmann::json scene = nlohmann::json::parse(testing::read_text(a + "/scene.json"));
+    EXPECT_EQ(scene["frames"], frames);
+    ASSERT_TRUE(scene["cloth"].contains("gravity"));
+    ASSERT_EQ(scene["meshes"].size(), 2u);
+    EXPECT_EQ(scene["meshes"][0]["path"], cloth + ".obj");
+    EXPECT_EQ(scene["meshes"][1]["role"], "obstacle");
+    EXPECT_EQ(scene["meshes"][1].contains("schedule"), example == "fitting");
+    const testing::RunResult second = testing::run_cli("simulate " + testing::quote(a + "/scene.json") +
+                                                       " -q --output-dir " + testing::quote(b));
+    ASSERT_EQ(second.exit_code, 0) << second.err;
+    for (int f = 1; f <= frames; ++f) {
+      const std::string name = "/" + cloth + "_000" + std::to_string(f) + ".obj";
+      const std::string from_example = testing::read_text(a + name);
+      EXPECT_FALSE(from_example.empty()) << name;
+      EXPECT_EQ(testing::read_text(b + name), from_example) << name;
+    }
+  }
 }
 
 // A scene file: a sheet pinned at two corners over a box that grows from 0.9 to its size over 5
