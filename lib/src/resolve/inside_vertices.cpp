@@ -190,7 +190,7 @@ void find_inside_by_parts(const SceneTopology& topo, const std::vector<Role>& ro
   {
     std::vector<std::uint32_t> next(begin.begin(), begin.end() - 1);
     for (std::uint32_t v = 0; v < n; ++v)
-      if (movable(v)) member[next[parent[v]]++] = v;
+      if (movable(v)) member[next[find(v)]++] = v;
   }
   std::vector<std::uint32_t> roots;
   for (std::uint32_t v = 0; v < n; ++v)
