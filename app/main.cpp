@@ -287,6 +287,9 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
                   q.max_displacement_over_diagonal,
                   untangle::within_bounds(q, o.bounds) ? "" : " (beyond the bounds)");
     }
+    if (result.reverted)
+      std::printf("the repaired state, detected as check detects it, was worse than the input: "
+                  "the input's positions were written\n");
     std::printf("status: %s%s\n", untangle::to_string(status),
                 result.stalled && !clean ? " (stalled)" : "");
   }
