@@ -204,9 +204,9 @@ struct FixResult {
   double clearance = 0.0;  // the clearance of the attempt kept
   ContinuationRecord continuation;
   // The final state, detected as `check` detects it (numbered by its own positions, where the
-  // repair numbered by the input's: an exact degeneracy can be decided the other way), had a kind
-  // of crossing the repair did not count and more of it than the input, or a vertex moved
-  // further than max_written_move: the input's positions were returned instead (unresolved).
+  // repair numbered by the input's: an exact degeneracy can be decided the other way), was not
+  // clean and was worse than the input (more crossings of a kind, more inside vertices, or a
+  // vertex moved further than max_written_move): the input's positions were returned instead.
   bool reverted = false;
 };
 

@@ -36,7 +36,7 @@ class WindingNumber {
  private:
   struct Node {
     Vec3 centre{}, dipole{};  // area-weighted centroid, sum of the area vectors
-    double radius = 0.0;      // a leaf: its farthest corner from the centre; above: a ball holding its children's
+    double radius = 0.0;      // a leaf: farthest corner; above: a ball holding the children's
     std::uint32_t begin = 0, end = 0;   // range of tri_
     std::uint32_t left = 0, right = 0;  // children (0: a leaf)
   };
@@ -51,10 +51,10 @@ class WindingNumber {
     std::uint32_t begin, end, id;
   };
   // Splits node `id` over order[begin, end) (indices into `items`, whose centroids are packed in
-  // `centroids`) and, below `depth` levels, its
-  // subtree: ranges and children only, the sums are taken afterwards. The subtrees left at `depth`
-  // are appended to `pending` (depth < 0: none left). Node ids are those of a pre-order numbering
-  // (node_count), so the parts can be split in any order.
+  // `centroids`) and, below `depth` levels, its subtree: ranges and children only, the sums are
+  // taken afterwards. The subtrees left at `depth` are appended to `pending` (depth < 0: none
+  // left). Node ids are those of a pre-order numbering (node_count), so the parts can be split in
+  // any order.
   void split(const std::vector<Item>& items, const std::vector<Vec3>& centroids,
              std::vector<std::uint32_t>& order, std::uint32_t begin, std::uint32_t end,
              std::uint32_t id, int depth, std::vector<Pending>& pending);
