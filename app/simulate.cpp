@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "output_plan.h"
@@ -62,6 +63,17 @@ struct SceneInput {
   std::vector<std::size_t> meshes;
 };
 
+// The numbers and counts of ClothOptions a scene file's `cloth` object names (gravity and contacts
+// aside): read by load_scene_file, written by example_scene_file, in this order.
+const std::pair<const char*, double ClothOptions::*> kClothNumbers[] = {
+    {"time_step", &ClothOptions::time_step},     {"stretch", &ClothOptions::stretch},
+    {"bend", &ClothOptions::bend},               {"damping", &ClothOptions::damping},
+    {"density", &ClothOptions::density},         {"friction", &ClothOptions::friction},
+    {"restitution", &ClothOptions::restitution}, {"max_speed", &ClothOptions::max_speed},
+    {"contact_reach", &ClothOptions::contact_reach}};
+const std::pair<const char*, int ClothOptions::*> kClothCounts[] = {
+    {"substeps", &ClothOptions::substeps}, {"solver_iterations", &ClothOptions::solver_iterations}};
+
 // The scene file of an example (SCENE FILES OF SIMULATE), its meshes at `inputs` (one file each,
 // beside it): every key load_scene_file reads, with the example's values, so that running it
 // gives the example's frames byte for byte and a user has every parameter in front of them.
@@ -91,19 +103,12 @@ nlohmann::ordered_json example_scene_file(const SimulationScene& scene,
   j["meshes"] = meshes;
   j["frames"] = frames;
   j["clearance"] = c.fix.clearance;
-  j["cloth"] = {{"gravity", {c.gravity[0], c.gravity[1], c.gravity[2]}},
-                {"time_step", c.time_step},
-                {"substeps", c.substeps},
-                {"solver_iterations", c.solver_iterations},
-                {"stretch", c.stretch},
-                {"bend", c.bend},
-                {"damping", c.damping},
-                {"density", c.density},
-                {"friction", c.friction},
-                {"restitution", c.restitution},
-                {"max_speed", c.max_speed},
-                {"contacts", c.contacts},
-                {"contact_reach", c.contact_reach}};
+  nlohmann::ordered_json cloth;
+  cloth["gravity"] = {c.gravity[0], c.gravity[1], c.gravity[2]};
+  cloth["contacts"] = c.contacts;
+  for (const auto& [name, member] : kClothCounts) cloth[name] = c.*member;
+  for (const auto& [name, member] : kClothNumbers) cloth[name] = c.*member;
+  j["cloth"] = cloth;
   return j;
 }
 
@@ -147,13 +152,10 @@ SimulationScene load_scene_file(const std::string& file, std::vector<SceneInput>
     if (!c.is_object()) bad_key(file, "cloth", "must be an object");
     ClothOptions& o = scene.options;
     // Every number of ClothOptions by its name; substeps and solver_iterations are counts.
-    const std::map<std::string, double*> numbers = {
-        {"time_step", &o.time_step},     {"stretch", &o.stretch},    {"bend", &o.bend},
-        {"damping", &o.damping},         {"density", &o.density},    {"friction", &o.friction},
-        {"restitution", &o.restitution}, {"max_speed", &o.max_speed},
-        {"contact_reach", &o.contact_reach}};
-    const std::map<std::string, int*> counts = {{"substeps", &o.substeps},
-                                                {"solver_iterations", &o.solver_iterations}};
+    std::map<std::string, double*> numbers;
+    std::map<std::string, int*> counts;
+    for (const auto& [name, member] : kClothNumbers) numbers[name] = &(o.*member);
+    for (const auto& [name, member] : kClothCounts) counts[name] = &(o.*member);
     for (const auto& [key, value] : c.items()) {
       const std::string name = "cloth." + key;
       if (key == "gravity") {

@@ -109,17 +109,9 @@ void judge_as_check(std::vector<Mesh>& meshes, const std::vector<std::vector<Vec
   const auto k_before = kinds_of(before, detect_as_check(before, options.threads));
   bool worse = false;
   for (int k = 0; k < 4; ++k) worse = worse || k_after[k] > k_before[k];
-  for (std::size_t m = 0; m < meshes.size() && !worse; ++m) {
-    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    for (const Vec3& p : input[m])
-      for (int c = 0; c < 3; ++c) {
-        lo[c] = std::min(lo[c], p[c]);
-        hi[c] = std::max(hi[c], p[c]);
-      }
-    const double reach = input[m].empty() ? 0.0 : options.max_written_move * norm(sub(hi, lo));
-    for (std::size_t i = 0; i < input[m].size() && !worse; ++i)
-      worse = norm(sub(meshes[m].positions[i], input[m][i])) > reach;
-  }
+  // The largest move against the mesh's input bounding-box diagonal, as the quality measures it.
+  for (const QualityStats& q : measure_quality(before, meshes))
+    worse = worse || q.max_displacement_over_diagonal > options.max_written_move;
   if (!worse) return;
   for (std::size_t m = 0; m < meshes.size(); ++m) meshes[m].positions = input[m];
   result.after = result.before;
