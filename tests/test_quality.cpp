@@ -178,8 +178,10 @@ std::string scaled_body_six_decimals(const TempDir& dir, double factor) {
 
 // Issue 21's fragile case: the body 2% larger, written with six decimals, stalls the shipped
 // garment at the default clearance; twice the clearance resolves it. fix retries by itself and
-// says so; without retries the same run ends unresolved. The retry's result is intersection-free
-// but distorted (a stretch of 17 at a spike); the continuation then reaches it within the bounds.
+// says so; without retries the same run ends unresolved. Whatever the retry leaves, `fix
+// --continuation` ends within the bounds, judged here on the written file: the continuation runs
+// exactly when the retry's result is beyond them (it was, a stretch of 17 at a spike, until the
+// relaxation's contacts kept their slide; now the retry ends at 1.48).
 TEST(Quality, UnresolvedRunIsRetriedWithALargerClearance) {
   TempDir dir;
   const std::string body = scaled_body_six_decimals(dir, 1.02);
@@ -202,11 +204,18 @@ TEST(Quality, UnresolvedRunIsRetriedWithALargerClearance) {
                               static_cast<int>(retries.size())));
   EXPECT_DOUBLE_EQ(f.report["clearance"].get<double>(), kept["clearance"].get<double>());
   EXPECT_EQ(f.report["before"]["crossings"], once.report["before"]["crossings"]);
+  const bool retry_within = f.report["quality"][0]["within_bounds"].get<bool>();
+  EXPECT_EQ(retry_within, f.exit_code == 0);
 
   const Fixed c = fix_shipped_pair(dir, "--overwrite --continuation", body);
   ASSERT_EQ(c.exit_code, 0) << c.report.dump(1);
-  EXPECT_TRUE(c.report["continuation"]["kept"].get<bool>());
-  EXPECT_FALSE(c.report["retries"].back()["kept"].get<bool>());
+  if (retry_within) {
+    EXPECT_TRUE(c.report["continuation"].is_null());  // not needed: the same result
+    EXPECT_EQ(c.report["quality"], f.report["quality"]);
+  } else {
+    EXPECT_TRUE(c.report["continuation"]["kept"].get<bool>());
+    EXPECT_FALSE(c.report["retries"].back()["kept"].get<bool>());
+  }
   EXPECT_EQ(garment_pairs(c.output, c.body), 0u);
   EXPECT_EQ(cgal_reference::inside_count(c.output, c.body), 0u);
   const Shape s = shape_change(c.input, c.output);

@@ -33,22 +33,23 @@ class ShapeSolve {
   };
 
   // Targets for part (out[i] for part[i]) after `iterations` local–global iterations started at
-  // `points`; part[i] with fixed[i] set, and every vertex outside part, stays where it is. A
-  // vertex whose iterate goes past its contact plane (`contacts`, per part index, or empty) is held
-  // on the plane in the normal direction only, by a stiff term of the solve, and stays free along
-  // it: a garment pressed onto the body keeps sliding toward its shape. The matrix's pattern is
-  // ordered again only when the contact planes change; its numbers are factored again when the
-  // fixed vertices or the contacts held change.
+  // `points`, or at `warm` (per part index) for the free part vertices when given: the last
+  // targets, from which a few iterations reach what ten reach from `points`. part[i] with fixed[i]
+  // set, and every vertex outside part, stays where it is. A vertex whose iterate goes past its
+  // contact plane (`contacts`, per part index, or empty) is held: a term of the solve pulls it
+  // toward the iterate's projection onto the plane, and what ends past the plane is put onto it.
+  // The matrix's pattern is ordered once; its numbers are factored again when the fixed vertices or
+  // the contacts held change.
   void targets(const std::vector<Vec3>& points, const std::vector<std::uint8_t>& fixed,
-               const std::vector<Contact>& contacts, int iterations, std::vector<Vec3>& out);
+               const std::vector<Contact>& contacts, int iterations, std::vector<Vec3>& out,
+               const std::vector<Vec3>* warm = nullptr);
 
   // The unknowns factored so far, summed over the factorizations: the solve's work, counted so
   // that a bound on it does not depend on the machine.
   std::size_t factored_unknowns() const { return factored_unknowns_; }
 
  private:
-  void factor(const std::vector<std::uint8_t>& fixed, const std::vector<Contact>& contacts,
-              const std::vector<std::uint8_t>& held);
+  void factor(const std::vector<std::uint8_t>& fixed, const std::vector<std::uint8_t>& held);
   // The best rotation of vertex v's 1-ring from its rest to `x` (row-major 3x3).
   std::array<double, 9> fit_rotation(std::uint32_t v, const std::vector<Vec3>& x) const;
 
@@ -59,10 +60,9 @@ class ShapeSolve {
   std::vector<std::uint32_t> local_;     // welded vertex -> index in part_, or kNone
   std::vector<std::uint8_t> factored_fixed_;
   std::vector<std::uint8_t> factored_held_;
-  std::vector<Contact> factored_contacts_;  // the planes whose normals and pattern it holds
   bool factored_ = false;
   std::size_t factored_unknowns_ = 0;
-  std::vector<std::uint8_t> analyzed_pattern_;  // the contact blocks of the ordered pattern
+  bool analyzed_ = false;  // the pattern (the part's graph) is ordered
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;
 };
 
