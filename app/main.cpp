@@ -400,6 +400,11 @@ int main(int argc, char** argv) {
   fix->add_flag_callback("--no-relax", [&fix_options] { fix_options.relax = false; },
                 "Skip the shape relaxation after a clean repair (moved vertices and the rings around "
                 "them relax toward the input's shape, every step kept clean)");
+  fix->add_option("--relax-sweeps", fix_options.relax_sweeps,
+                  "Sweeps of the shape relaxation at most (fewer: faster, the shape less relaxed)" +
+                      default_is(fix_options.relax_sweeps))
+      ->check(CLI::Range(0, 1000))
+      ->option_text("N");
   fix->add_option("--retries", fix_options.retries,
                   "Retries of an unresolved run, from the input, each with the clearance doubled; "
                   "the first clean one is kept" + default_is(fix_options.retries))

@@ -183,6 +183,7 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   options.step = o.step;
   options.outside_closed_obstacles = o.outside_closed;
   options.relax = o.relax;
+  options.relax_sweeps = o.relax_sweeps;
   options.retries = o.retries;
   options.continuation = o.continuation;
   options.bounds = o.bounds;

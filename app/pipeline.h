@@ -41,6 +41,7 @@ struct CommonOptions {
   double step = FixOptions{}.step;  // not a fix option (yet), varied by bench
   bool outside_closed = FixOptions{}.outside_closed_obstacles;
   bool relax = FixOptions{}.relax;
+  int relax_sweeps = FixOptions{}.relax_sweeps;
   int retries = FixOptions{}.retries;
   bool continuation = FixOptions{}.continuation;
   QualityBounds bounds;

@@ -103,6 +103,7 @@ nlohmann::ordered_json example_scene_file(const SimulationScene& scene,
   j["meshes"] = meshes;
   j["frames"] = frames;
   j["clearance"] = c.fix.clearance;
+  j["relax_sweeps"] = c.fix.relax_sweeps;
   nlohmann::ordered_json cloth;
   cloth["gravity"] = {c.gravity[0], c.gravity[1], c.gravity[2]};
   cloth["contacts"] = c.contacts;
@@ -137,8 +138,10 @@ SimulationScene load_scene_file(const std::string& file, std::vector<SceneInput>
   SimulationScene scene;
   const fs::path base = fs::path(file).parent_path();
   for (const auto& [key, value] : j.items()) {
-    if (key == "meshes" || key == "frames" || key == "cloth" || key == "clearance") continue;
-    bad_key(file, key, "unknown key (meshes, frames, cloth, clearance)");
+    if (key == "meshes" || key == "frames" || key == "cloth" || key == "clearance" ||
+        key == "relax_sweeps")
+      continue;
+    bad_key(file, key, "unknown key (meshes, frames, cloth, clearance, relax_sweeps)");
   }
   if (j.contains("frames")) {
     const double f = number(j["frames"], "frames");
@@ -147,6 +150,12 @@ SimulationScene load_scene_file(const std::string& file, std::vector<SceneInput>
     frames = static_cast<int>(f);
   }
   if (j.contains("clearance")) scene.options.fix.clearance = number(j["clearance"], "clearance");
+  if (j.contains("relax_sweeps")) {
+    const double n = number(j["relax_sweeps"], "relax_sweeps");
+    if (!(n >= 0.0) || n != std::floor(n) || n > 1e6)
+      bad_key(file, "relax_sweeps", "must be an integer >= 0");
+    scene.options.fix.relax_sweeps = static_cast<int>(n);
+  }
   if (j.contains("cloth")) {
     const nlohmann::json& c = j["cloth"];
     if (!c.is_object()) bad_key(file, "cloth", "must be an object");
@@ -338,7 +347,8 @@ int run_simulate(const SimulateOptions& o) {
 
   nlohmann::ordered_json report;
   // 2: options.contacts and options.contact_reach replace hold_contacts and release_distance.
-  report["schema_version"] = 2;
+  // 3: options.relax_sweeps.
+  report["schema_version"] = 3;
   report["command"] = "simulate";
   report["untangle_version"] = UNTANGLE_VERSION;
   if (example)
@@ -351,7 +361,8 @@ int run_simulate(const SimulateOptions& o) {
                        {"stretch", c.stretch},     {"bend", c.bend},
                        {"damping", c.damping},     {"friction", c.friction},
                        {"max_speed", c.max_speed}, {"contacts", c.contacts},
-                       {"contact_reach", c.contact_reach}, {"clearance", c.fix.clearance}};
+                       {"contact_reach", c.contact_reach}, {"clearance", c.fix.clearance},
+                       {"relax_sweeps", c.fix.relax_sweeps}};
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   const std::vector<Mesh> start_meshes = scene.meshes;
   RenderCamera camera;

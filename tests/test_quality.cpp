@@ -284,6 +284,24 @@ TEST(Quality, RelaxationSmoothsWhatTheRepairPushed) {
   EXPECT_LT(beyond(a, 0.1), beyond(b, 0.1));
 }
 
+// --relax-sweeps bounds the relaxation: 2 sweeps run at most 2 (the default runs 7 here), the
+// report says so, and 0 writes what --no-relax writes.
+TEST(Quality, RelaxSweepsBoundTheRelaxation) {
+  TempDir a, b, c;
+  const Fixed two = fix_shipped_pair(a, "--relax-sweeps 2");
+  ASSERT_TRUE(testing::intersection_free(two.exit_code)) << two.report.dump(1);
+  EXPECT_EQ(two.report["options"]["relax_sweeps"], 2);
+  EXPECT_GE(two.report["relax"]["sweeps"].get<int>(), 1);
+  EXPECT_LE(two.report["relax"]["sweeps"].get<int>(), 2);
+  EXPECT_EQ(garment_pairs(two.output, two.body), 0u);
+  const Fixed none = fix_shipped_pair(b, "--relax-sweeps 0");
+  const Fixed plain = fix_shipped_pair(c, "--no-relax");
+  ASSERT_NE(none.exit_code, -1);
+  EXPECT_EQ(none.report["relax"]["sweeps"].get<int>(), 0);
+  EXPECT_EQ(read_text(b.file("fixed.obj")), read_text(c.file("fixed.obj")));
+  EXPECT_EQ(run_cli("fix --relax-sweeps -1 x.obj").exit_code, 2);
+}
+
 TEST(Quality, BeyondTheBoundsIsDistortedAndStillWritten) {
   TempDir dir;
   const Fixed f = fix_shipped_pair(dir, "--max-stretch 1.001");

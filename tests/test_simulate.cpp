@@ -450,6 +450,7 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
   testing::write_text(dir.file("planes.json"), R"({
     "meshes": [{"path": "cloth.obj"}, {"path": "box.obj", "role": "obstacle"}],
     "frames": 2,
+    "relax_sweeps": 7,
     "cloth": {"contacts": false, "contact_reach": 2.5}
   })");
   const std::string report = dir.file("planes_report.json");
@@ -458,9 +459,18 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
                        testing::quote(dir.file("o3")) + " -q --report " + testing::quote(report));
   ASSERT_EQ(planes.exit_code, 0) << planes.err;
   const nlohmann::json j = nlohmann::json::parse(testing::read_text(report));
-  EXPECT_EQ(j["schema_version"], 2);
+  EXPECT_EQ(j["schema_version"], 3);
   EXPECT_EQ(j["options"]["contacts"], false);
   EXPECT_EQ(j["options"]["contact_reach"], 2.5);
+  EXPECT_EQ(j["options"]["relax_sweeps"], 7);
+  for (const char* bad : {"-1", "2.5", "\"3\""}) {
+    testing::write_text(dir.file("sweeps.json"), std::string(R"({"meshes": [{"path": "cloth.obj"}], "relax_sweeps": )") + bad + "}");
+    const testing::RunResult sweeps =
+        testing::run_cli("simulate " + testing::quote(dir.file("sweeps.json")) + " --output-dir " +
+                         testing::quote(dir.file("o5")));
+    EXPECT_EQ(sweeps.exit_code, 3) << bad << sweeps.err;
+    EXPECT_NE(sweeps.err.find("relax_sweeps"), std::string::npos) << sweeps.err;
+  }
   testing::write_text(dir.file("reach.json"),
                       R"({"meshes": [{"path": "cloth.obj"}], "cloth": {"contact_reach": -1}})");
   const testing::RunResult reach =

@@ -61,6 +61,9 @@ struct FixOptions {
   // After a clean repair, the moved vertices and the rings around them relax toward the input's
   // shape (their displacements smoothed), every step kept clean by exact detection.
   bool relax = true;
+  // The relaxation's sweeps at most (each moves halfway to the solved shape); fewer are faster
+  // and relax the shape less.
+  int relax_sweeps = 40;
   // An unresolved run writes its best state among those no worse than the input: no more
   // crossings of each kind (movable against obstacle, mesh against itself, between movable
   // meshes) and no more inside vertices than the input, and no vertex moved further than this

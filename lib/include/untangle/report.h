@@ -18,7 +18,9 @@ namespace untangle {
 // max_displacement_over_diagonal, within_bounds), the bounds and relax among the options, relax.
 // 5: `contacts` in every counts object (exact contact per pair of meshes: seam_vertices,
 // repeated_faces, coplanar_pairs), and repeated faces left out of detection.
-inline constexpr int kReportSchemaVersion = 6;
+// 6: `reverted` in the fix report.
+// 7: relax_sweeps among the fix options.
+inline constexpr int kReportSchemaVersion = 7;
 
 struct CheckTimingsMs {
   double load = 0.0, detect = 0.0, contours = 0.0, total = 0.0;

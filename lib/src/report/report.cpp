@@ -152,6 +152,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   opts["clearance"] = options.clearance;
   opts["outside_closed_obstacles"] = options.outside_closed_obstacles;
   opts["relax"] = options.relax;
+  opts["relax_sweeps"] = options.relax_sweeps;
   opts["retries"] = options.retries;
   opts["continuation"] = options.continuation;
   opts["max_stretch"] = bounds.max_stretch;

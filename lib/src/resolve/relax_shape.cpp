@@ -25,7 +25,6 @@ namespace untangle {
 namespace {
 
 constexpr int kRelaxRings = 6;      // rings around the moved vertices that relax with them
-constexpr int kMaxSweeps = 40;      // sweeps at most
 constexpr double kStill = 3e-3;  // a vertex whose proposal is shorter (in mean edges) has settled
 constexpr int kHoldPasses = 8;      // detection passes per sweep before the whole sweep is undone
 constexpr int kArapIterations = 10;  // local–global iterations of the first solve
@@ -142,7 +141,8 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   std::vector<std::uint8_t> changed(topo.points.size(), 0), refit(topo.points.size(), 0);
   std::vector<std::uint8_t> near(topo.points.size(), 0);
   const CrossingSet none;
-  for (int sweep = 0; sweep < kMaxSweeps && solve.factored_unknowns() <= kFactoredBudget; ++sweep) {
+  for (int sweep = 0; sweep < in.max_sweeps && solve.factored_unknowns() <= kFactoredBudget;
+       ++sweep) {
     // Contact planes of the vertices near an obstacle: the tangent plane at the closest point,
     // moved out by the clearance.
     for (std::size_t i = 0; i < part.size(); ++i) {

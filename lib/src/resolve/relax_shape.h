@@ -37,6 +37,7 @@ struct RelaxShapeInputs {
   // continuation's steps (toward the asset's shape, from the step's start): the vertices moved
   // since `moved_from` seed the part. Null: `input` is both.
   const std::vector<Vec3>* moved_from = nullptr;
+  int max_sweeps = 40;  // sweeps at most (FixOptions::relax_sweeps)
 };
 
 // Relaxes topo.points in place: the moved vertices and kRelaxRings rings around them move toward
