@@ -464,7 +464,9 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
   EXPECT_EQ(j["options"]["contact_reach"], 2.5);
   EXPECT_EQ(j["options"]["relax_sweeps"], 7);
   for (const char* bad : {"-1", "2.5", "\"3\""}) {
-    testing::write_text(dir.file("sweeps.json"), std::string(R"({"meshes": [{"path": "cloth.obj"}], "relax_sweeps": )") + bad + "}");
+    testing::write_text(dir.file("sweeps.json"),
+                        std::string(R"({"meshes": [{"path": "cloth.obj"}], "relax_sweeps": )") +
+                            bad + "}");
     const testing::RunResult sweeps =
         testing::run_cli("simulate " + testing::quote(dir.file("sweeps.json")) + " --output-dir " +
                          testing::quote(dir.file("o5")));

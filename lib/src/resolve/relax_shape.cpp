@@ -31,7 +31,7 @@ constexpr int kArapIterations = 10;  // local–global iterations of the first s
 // Local–global iterations of every later solve, started from the last solve's targets: what holds
 // and the contacts change little between passes and sweeps. On the six MakeHuman garments 3 in
 // place of 10 took their relaxations from 8.1 to 5.7 s (one thread), largest edge ratios within
-// 0.03 of ten's; with the scalar solve (shape_solve.cpp) 2.9 s (DESIGN §5).
+// 0.03 of ten's; with the scalar solve (shape_solve.cpp) 2.5 s (DESIGN §5).
 constexpr int kWarmIterations = 3;
 constexpr double kFraction = 0.5;   // of the way to the solved shape per sweep
 constexpr double kShrinkLeast = 0.2;  // a step refused until shorter than this fraction holds

@@ -23,7 +23,7 @@ constexpr double kAnchor = 1e-9;
 // factor of 6,531 unknowns). Pulled toward its own projection instead, a held vertex stayed where
 // it was along the plane (weight 10: the continuation on the body x 1.05 stalled). Weights 10, 100
 // and 1000 gave the six garments largest edge ratios within 0.07 of each other; 100 the lowest
-// on four (DESIGN §5).
+// on five (DESIGN §5).
 constexpr double kContact = 100.0;
 // Iterations after which the held contacts may still grow; each growth is a new factorization.
 // Later iterations keep them, and what ends past its plane is put onto it. Unbounded, the
