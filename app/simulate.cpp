@@ -152,8 +152,8 @@ SimulationScene load_scene_file(const std::string& file, std::vector<SceneInput>
   if (j.contains("clearance")) scene.options.fix.clearance = number(j["clearance"], "clearance");
   if (j.contains("relax_sweeps")) {
     const double n = number(j["relax_sweeps"], "relax_sweeps");
-    if (!(n >= 0.0) || n != std::floor(n) || n > 1e6)
-      bad_key(file, "relax_sweeps", "must be an integer >= 0");
+    if (!(n >= 0.0) || n != std::floor(n) || n > 1000.0)  // fix --relax-sweeps's range
+      bad_key(file, "relax_sweeps", "must be an integer from 0 to 1000");
     scene.options.fix.relax_sweeps = static_cast<int>(n);
   }
   if (j.contains("cloth")) {

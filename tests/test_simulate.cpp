@@ -463,7 +463,7 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
   EXPECT_EQ(j["options"]["contacts"], false);
   EXPECT_EQ(j["options"]["contact_reach"], 2.5);
   EXPECT_EQ(j["options"]["relax_sweeps"], 7);
-  for (const char* bad : {"-1", "2.5", "\"3\""}) {
+  for (const char* bad : {"-1", "2.5", "\"3\"", "1001"}) {
     testing::write_text(dir.file("sweeps.json"),
                         std::string(R"({"meshes": [{"path": "cloth.obj"}], "relax_sweeps": )") +
                             bad + "}");

@@ -12,6 +12,7 @@
 #include "resolve/moves.h"
 #include "resolve/scene_measures.h"
 #include "topology/scene_topology.h"
+#include "untangle/fix.h"
 
 namespace untangle {
 
@@ -37,7 +38,7 @@ struct RelaxShapeInputs {
   // continuation's steps (toward the asset's shape, from the step's start): the vertices moved
   // since `moved_from` seed the part. Null: `input` is both.
   const std::vector<Vec3>* moved_from = nullptr;
-  int max_sweeps = 40;  // sweeps at most (FixOptions::relax_sweeps)
+  int max_sweeps = FixOptions{}.relax_sweeps;  // sweeps at most
 };
 
 // Relaxes topo.points in place: the moved vertices and kRelaxRings rings around them move toward
