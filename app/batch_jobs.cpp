@@ -132,6 +132,8 @@ bool is_mesh_file(const fs::directory_entry& entry) {
   if (ext.size() < 2) return false;
   ext = ext.substr(1);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  // Our own readers' formats first: a folder of OBJ files never loads the assimp module.
+  if (ext == "obj" || ext == "off") return true;
   static const std::vector<FileFormat> formats = readable_formats();
   for (const FileFormat& f : formats)
     if (f.extension == ext) return true;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -339,7 +340,9 @@ int main(int argc, char** argv) {
   CLI::App app{"untangle: find and repair intersecting triangle meshes (garments, bodies, cloth)",
                "untangle"};
   app.footer(kExitCodes);
-  app.set_version_flag("--version", untangle::version_text(), "Print the versions of untangle, CGAL, assimp and Eigen");
+  // A callback: the assimp line loads the assimp module, which only --version should pay for.
+  app.set_version_flag("--version", std::function<std::string()>(untangle::version_text),
+                       "Print the versions of untangle, CGAL, assimp and Eigen");
   app.require_subcommand(1);
 
   CommonOptions info_options, check_options;

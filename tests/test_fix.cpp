@@ -2,16 +2,20 @@
 // files; only positions change; far vertices keep their bits; pins hold; bad outputs are refused.
 #include <gtest/gtest.h>
 
-#include <assimp/Exporter.hpp>
-#include <assimp/Importer.hpp>
+#include <assimp/cexport.h>
+#include <assimp/cimport.h>
 #include <assimp/scene.h>
+#include <dlfcn.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <filesystem>
+#include <memory>
 #include <set>
 #include <sstream>
+#include <type_traits>
 
+#include "io/assimp_module.h"
 #include "scenes/scenes.h"
 #include "scene_files.h"
 #include "test_support.h"
@@ -66,6 +70,49 @@ std::vector<scenes::Scene> fix_scenes() {
   all.push_back(sheet_and_offcentre_sphere());
   return all;
 }
+
+// assimp's C API, reached through the assimp module (which links libassimp; no executable does):
+// dlsym on the module's handle searches the libraries it loaded.
+struct AssimpC {
+  decltype(&aiImportFile) import_file = nullptr;
+  decltype(&aiReleaseImport) release_import = nullptr;
+  decltype(&aiGetErrorString) error_string = nullptr;
+  decltype(&aiGetExportFormatCount) export_format_count = nullptr;
+  decltype(&aiGetExportFormatDescription) export_format_description = nullptr;
+  decltype(&aiReleaseExportFormatDescription) release_export_format_description = nullptr;
+  decltype(&aiExportScene) export_scene = nullptr;
+
+  static const AssimpC& get() {
+    static const AssimpC c = [] {
+      AssimpC a;
+      void* module = dlopen(assimp_module::search_path().front().c_str(), RTLD_NOW | RTLD_LOCAL);
+      if (module == nullptr) return a;
+      auto find = [&](auto& f, const char* name) {
+        f = reinterpret_cast<std::remove_reference_t<decltype(f)>>(dlsym(module, name));
+      };
+      find(a.import_file, "aiImportFile");
+      find(a.release_import, "aiReleaseImport");
+      find(a.error_string, "aiGetErrorString");
+      find(a.export_format_count, "aiGetExportFormatCount");
+      find(a.export_format_description, "aiGetExportFormatDescription");
+      find(a.release_export_format_description, "aiReleaseExportFormatDescription");
+      find(a.export_scene, "aiExportScene");
+      return a;
+    }();
+    return c;
+  }
+  bool complete() const {
+    return import_file && release_import && error_string && export_format_count &&
+           export_format_description && release_export_format_description && export_scene;
+  }
+  // A scene read without post-processing (as Assimp::Importer::ReadFile(path, 0)), released
+  // with its pointer.
+  std::shared_ptr<const aiScene> read(const std::string& path) const {
+    return std::shared_ptr<const aiScene>(import_file(path.c_str(), 0), [this](const aiScene* s) {
+      if (s != nullptr) release_import(s);
+    });
+  }
+};
 
 class FixScene : public ::testing::TestWithParam<std::string> {};
 
@@ -272,28 +319,31 @@ TEST_P(FixFormat, KeepsTopologyUvsAndNormals) {
     obj << "\n";
   }
   write_text(dir.file("sheet.obj"), obj.str());
-  Assimp::Exporter exporter;
+  const AssimpC& assimp = AssimpC::get();
+  ASSERT_TRUE(assimp.complete()) << "assimp's C API not found through the assimp module";
   std::string ext;
-  for (std::size_t i = 0; i < exporter.GetExportFormatCount(); ++i)
-    if (exporter.GetExportFormatDescription(i)->id == format) ext = exporter.GetExportFormatDescription(i)->fileExtension;
+  for (std::size_t i = 0; i < assimp.export_format_count(); ++i) {
+    const aiExportFormatDesc* d = assimp.export_format_description(i);
+    if (d->id == format) ext = d->fileExtension;
+    assimp.release_export_format_description(d);
+  }
   ASSERT_FALSE(ext.empty()) << format;
   const std::string input = dir.file("sheet." + ext);
   {
-    Assimp::Importer importer;
-    const aiScene* s = importer.ReadFile(dir.file("sheet.obj"), 0);
+    const auto s = assimp.read(dir.file("sheet.obj"));
     ASSERT_NE(s, nullptr);
-    ASSERT_EQ(exporter.Export(s, format, input), AI_SUCCESS) << exporter.GetErrorString();
+    ASSERT_EQ(assimp.export_scene(s.get(), format.c_str(), input.c_str(), 0), aiReturn_SUCCESS)
+        << assimp.error_string();
   }
   const std::string output = dir.file("out/sheet." + ext);
   std::filesystem::create_directories(dir.file("out"));
   const auto r = run_cli("fix " + quote(input) + " --obstacle " + quote(files.obstacles[0]) + " -o " + quote(output));
   ASSERT_TRUE(testing::intersection_free(r.exit_code)) << r.out << r.err;
 
-  Assimp::Importer a, b;
-  const aiScene* before = a.ReadFile(input, 0);
-  const aiScene* after = b.ReadFile(output, 0);
+  const auto before = assimp.read(input);
   ASSERT_NE(before, nullptr);
-  ASSERT_NE(after, nullptr) << b.GetErrorString();
+  const auto after = assimp.read(output);
+  ASSERT_NE(after, nullptr) << assimp.error_string();
   ASSERT_EQ(before->mNumMeshes, after->mNumMeshes);
   std::size_t moved = 0;
   for (unsigned m = 0; m < before->mNumMeshes; ++m) {

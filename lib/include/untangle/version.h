@@ -5,7 +5,9 @@
 
 namespace untangle {
 
-// "untangle X.Y.Z" followed by one line each for CGAL, assimp and Eigen.
+// "untangle X.Y.Z" followed by one line each for CGAL, assimp and Eigen. The assimp line loads
+// the assimp module (io/assimp_module.h): "assimp 5.2.5", or "assimp unknown (why)" when it
+// cannot be loaded.
 std::string version_text();
 
 // "X.Y.Z", the version of untangle alone (as in every JSON report's `untangle_version`).

@@ -1,8 +1,6 @@
 // Fixed values for the clock readings, temporary paths and pointers in exported files.
 #include "io/deterministic_export.h"
 
-#include <assimp/scene.h>
-
 #include <cstring>
 #include <fstream>
 #include <regex>
@@ -26,12 +24,6 @@ void write_all(const std::string& path, const std::string& text) {
   out << text;
   out.flush();
   if (!out) throw Error(ExitCode::kOutputNotWritten, path, "write failed");
-}
-
-void name_nodes(aiNode& node, std::size_t& next) {
-  if (node.mName.length == 0) node.mName.Set("node_" + std::to_string(next));
-  ++next;
-  for (unsigned c = 0; c < node.mNumChildren; ++c) name_nodes(*node.mChildren[c], next);
 }
 
 // FBX's CreationTimeStamp block: Year, Month, Day, Hour, Minute, Second, Millisecond.
@@ -67,12 +59,6 @@ void fix_assbin(std::string& data, const std::string& path, const std::string& f
 }
 
 }  // namespace
-
-void prepare_deterministic_export(const std::string& format_id, aiScene& scene) {
-  if (format_id != "x" || scene.mRootNode == nullptr) return;
-  std::size_t next = 0;
-  name_nodes(*scene.mRootNode, next);
-}
 
 void finish_deterministic_export(const std::string& format_id, const std::string& path,
                                  const std::string& final_name) {

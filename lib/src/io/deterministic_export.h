@@ -4,13 +4,10 @@
 
 #include <string>
 
-struct aiScene;
-
 namespace untangle {
 
-// Before export in format `format_id` (an assimp exporter id): names every unnamed node
-// "node_<k>" (depth first) where the exporter would otherwise name it after its pointer (X).
-void prepare_deterministic_export(const std::string& format_id, aiScene& scene);
+// (Before export, the assimp module names the unnamed nodes of an X scene, which its exporter
+// would otherwise name after their pointers: lib/assimp_module/write.cpp.)
 
 // After export: rewrites `path`, written in format `format_id`, with the creation and
 // modification times at 1970-01-01T00:00:00 (Collada <created>/<modified>, FBX

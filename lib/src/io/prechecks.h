@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <string_view>
@@ -40,6 +41,13 @@ void precheck_for_assimp(const std::string& path, const std::string& extension,
 inline std::string lower(std::string text) {
   for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return text;
+}
+
+// The extension of `path` in lower case, without the dot: "obj", "gltf" ("" when none).
+inline std::string extension_of(const std::string& path) {
+  std::string ext = lower(std::filesystem::path(path).extension().string());
+  if (!ext.empty() && ext[0] == '.') ext.erase(0, 1);
+  return ext;
 }
 
 // Splits off the next token of blanks-separated text.

@@ -2,8 +2,6 @@
 // §2).
 #include "io/write_gltf_in_place.h"
 
-#include <assimp/mesh.h>
-
 #include <algorithm>
 #include <array>
 #include <cstdint>
@@ -290,7 +288,8 @@ std::vector<std::string> buffers_of_output(const std::string& input, const std::
 }
 
 bool write_gltf_in_place(const std::string& input, const std::string& staged,
-                         const std::string& final_folder, const std::vector<MeshInstance>& instances,
+                         const std::string& final_folder,
+                         const std::vector<assimp_module::PlacedMesh>& instances,
                          const std::vector<const Mesh*>& meshes) {
   GltfFile file;
   if (!read_gltf(input, file)) return false;
@@ -306,22 +305,22 @@ bool write_gltf_in_place(const std::string& input, const std::string& staged,
   if (instances.size() != meshes.size()) return false;
   std::vector<std::size_t> of_instance;
   std::vector<std::uint8_t> taken(accessors.size(), 0);
-  std::map<const aiMesh*, std::size_t> of_mesh;
-  for (const auto& [mesh, world] : instances) {
-    if (of_mesh.count(mesh)) {
-      of_instance.push_back(of_mesh[mesh]);
+  std::map<std::size_t, std::size_t> of_mesh;  // the file's mesh index -> accessor
+  for (const assimp_module::PlacedMesh& mesh : instances) {
+    if (of_mesh.count(mesh.mesh_index)) {
+      of_instance.push_back(of_mesh[mesh.mesh_index]);
       continue;
     }
     std::size_t found = accessors.size();
     for (std::size_t a = 0; a < accessors.size(); ++a) {
       const Positions& p = accessors[a];
-      if (p.count != mesh->mNumVertices || (found < accessors.size() && taken[a])) continue;
+      if (p.count != mesh.stored.size() || (found < accessors.size() && taken[a])) continue;
       const std::string& bytes = buffers[p.buffer];
       bool same = true;
       for (std::size_t v = 0; v < p.count && same; ++v) {
         for (int c = 0; c < 3 && same; ++c) {
           const float stored = float_at(bytes, p.start + v * p.stride + 4 * c);
-          same = std::memcmp(&stored, &mesh->mVertices[v][c], 4) == 0;
+          same = std::memcmp(&stored, &mesh.stored[v][c], 4) == 0;
         }
       }
       if (!same) continue;
@@ -330,7 +329,7 @@ bool write_gltf_in_place(const std::string& input, const std::string& staged,
     }
     if (found == accessors.size()) return false;
     taken[found] = 1;
-    of_mesh[mesh] = found;
+    of_mesh[mesh.mesh_index] = found;
     of_instance.push_back(found);
   }
 
@@ -339,25 +338,19 @@ bool write_gltf_in_place(const std::string& input, const std::string& staged,
   std::vector<std::vector<std::uint8_t>> written(accessors.size());
   std::vector<std::uint8_t> changed(accessors.size(), 0);
   for (std::size_t k = 0; k < instances.size(); ++k) {
-    const auto& [mesh, world] = instances[k];
+    const assimp_module::PlacedMesh& mesh = instances[k];
     const Mesh& ours = *meshes[k];
     Positions& p = accessors[of_instance[k]];
-    if (ours.positions.size() != p.count) return false;
+    if (ours.positions.size() != p.count || mesh.moved.size() != p.count) return false;
     std::vector<std::uint8_t>& done = written[of_instance[k]];
     done.resize(p.count, 0);
-    aiMatrix4x4 inverse = world;
-    inverse.Inverse();
     std::string& bytes = buffers[p.buffer];
     for (std::size_t v = 0; v < p.count; ++v) {
-      const aiVector3D target(static_cast<ai_real>(ours.positions[v][0]),
-                              static_cast<ai_real>(ours.positions[v][1]),
-                              static_cast<ai_real>(ours.positions[v][2]));
-      if (done[v] || world * mesh->mVertices[v] == target) continue;
+      if (done[v] || !mesh.moved[v]) continue;
       done[v] = 1;
       changed[of_instance[k]] = 1;
-      const aiVector3D local = inverse * target;
       for (int c = 0; c < 3; ++c) {
-        const float f = local[c];
+        const float f = mesh.local[v][c];
         std::memcpy(bytes.data() + p.start + v * p.stride + 4 * c, &f, 4);
       }
     }

@@ -2,26 +2,19 @@
 // attributes, indices, animations, skins, materials, shaders, extensions, glTF 1.0 or 2.0) kept.
 #pragma once
 
-#include <assimp/matrix4x4.h>
-
 #include <string>
-#include <utility>
 #include <vector>
 
+#include "io/assimp_module.h"
 #include "untangle/mesh.h"
-
-struct aiMesh;
 
 namespace untangle {
 
-// One placed mesh of the input as assimp read it (read_meshes order): the mesh and its world
-// transform.
-using MeshInstance = std::pair<const aiMesh*, aiMatrix4x4>;
-
 // Writes `input` (.gltf, version 1.0 or 2.0) to `staged` (a .gltf in a temporary folder; its
 // buffers beside it) with the positions of `meshes` (world space, one per instance in order),
-// mapped back through each instance's transform into the position accessor that holds it; an
-// unmoved vertex keeps its stored bytes. The JSON changes only in the `min`/`max` of patched
+// mapped back through each instance's transform into the position accessor that holds it, as the
+// assimp module computed them (`instances`: the placed meshes as assimp read them, in read_meshes
+// order); an unmoved vertex keeps its stored bytes. The JSON changes only in the `min`/`max` of patched
 // accessors whose bounds changed, the buffer URIs (buffers_of_output) and the relative URIs of
 // images and shaders, rewritten to stay valid from `final_folder`.
 // A binary glTF 2 (`input` and `staged` .glb) is written as its own bytes with the positions
@@ -33,7 +26,8 @@ using MeshInstance = std::pair<const aiMesh*, aiMatrix4x4>;
 // mesh whose positions match no accessor; a glTF 1.0 binary); the caller then exports with assimp.
 // Throws Error(kOutputNotWritten) when writing fails.
 bool write_gltf_in_place(const std::string& input, const std::string& staged,
-                         const std::string& final_folder, const std::vector<MeshInstance>& instances,
+                         const std::string& final_folder,
+                         const std::vector<assimp_module::PlacedMesh>& instances,
                          const std::vector<const Mesh*>& meshes);
 
 // Whether write_gltf_in_place can patch `input`: its primitives' positions are float32 VEC3 in

@@ -1,14 +1,9 @@
-// Writers: OBJ by rewriting v lines in place; other formats through assimp's exporter.
+// Writers: OBJ and OFF by rewriting v lines in place; glTF by patching its buffers; other formats
+// through the assimp module's exporter (io/assimp_module.h), loaded only then.
 #include "untangle/write_meshes.h"
-
-#include <assimp/Exporter.hpp>
-#include <assimp/Importer.hpp>
-#include <assimp/material.h>
-#include <assimp/scene.h>
 
 #include <algorithm>
 #include <array>
-#include <cctype>
 #include <charconv>
 #include <filesystem>
 #include <fstream>
@@ -17,6 +12,7 @@
 #include <random>
 #include <sstream>
 
+#include "io/assimp_module.h"
 #include "io/deterministic_export.h"
 #include "io/prechecks.h"
 #include "io/read_off.h"
@@ -29,13 +25,6 @@ namespace untangle {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string extension_of(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (!ext.empty() && ext[0] == '.') ext.erase(0, 1);
-  return ext;
-}
 
 [[noreturn]] void fail(const std::string& path, const std::string& message) {
   throw Error(ExitCode::kOutputNotWritten, path, message);
@@ -102,157 +91,27 @@ std::string rewrite_obj(const std::string& input, const Mesh& mesh) {
   return out;
 }
 
-void collect_nodes(const aiNode& node, const aiMatrix4x4& parent,
-                   std::vector<std::pair<unsigned, aiMatrix4x4>>& out) {
-  const aiMatrix4x4 world = parent * node.mTransformation;
-  for (unsigned k = 0; k < node.mNumMeshes; ++k) out.push_back({node.mMeshes[k], world});
-  for (unsigned c = 0; c < node.mNumChildren; ++c) collect_nodes(*node.mChildren[c], world, out);
-}
-
-// Whether a PLY or STL file is binary, so that the output keeps the input's encoding.
-bool is_binary(const std::string& path, const std::string& ext) {
-  std::ifstream in(path, std::ios::binary);
-  std::string head(512, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(in.gcount()));
-  if (ext == "ply") return head.find("format binary") != std::string::npos;
-  if (ext == "stl") return head.rfind("solid", 0) != 0 || head.find("facet") == std::string::npos;
-  return false;
-}
-
-std::string export_format(const Assimp::Exporter& exporter, const std::string& ext,
-                          const std::string& input = {}) {
-  if (!input.empty() && extension_of(input) == ext && (ext == "ply" || ext == "stl") &&
-      is_binary(input, ext))
-    return ext + "b";
-  std::string found;
-  for (std::size_t i = 0; i < exporter.GetExportFormatCount(); ++i) {
-    const aiExportFormatDesc* d = exporter.GetExportFormatDescription(i);
-    if (ext != d->fileExtension) continue;
-    const std::string id = d->id;
-    // glTF: prefer version 2. FBX: ASCII, because assimp 5.2 cannot read back the binary FBX it
-    // writes, and every output is verified by reading it back. PLY and STL: the first listed.
-    if (found.empty() || id == "gltf2" || id == "glb2" || id == "fbxa") found = id;
-  }
-  return found;
-}
-
-// Texture files named relative to the input are named relative to the output's folder instead,
-// so that the exported file still finds them (embedded textures, "*<k>", stay as they are).
-void keep_texture_paths(aiScene& scene, const std::string& input, const std::string& final_folder) {
-  std::error_code ec;
-  const fs::path from = fs::absolute(fs::path(input).parent_path(), ec).lexically_normal();
-  const fs::path to = fs::absolute(final_folder, ec).lexically_normal();
-  if (from == to) return;
-  for (unsigned m = 0; m < scene.mNumMaterials; ++m) {
-    aiMaterial& material = *scene.mMaterials[m];
-    for (int type = aiTextureType_DIFFUSE; type <= AI_TEXTURE_TYPE_MAX; ++type) {
-      const auto t = static_cast<aiTextureType>(type);
-      for (unsigned k = 0; k < material.GetTextureCount(t); ++k) {
-        aiString path;
-        if (material.GetTexture(t, k, &path) != AI_SUCCESS) continue;
-        const std::string name = path.C_Str();
-        if (name.empty() || name[0] == '*' || name.rfind("data:", 0) == 0 || fs::path(name).is_absolute() ||
-            name.find("://") != std::string::npos)
-          continue;
-        const fs::path moved = (from / name).lexically_normal().lexically_relative(to);
-        if (moved.empty()) continue;
-        const aiString replaced(moved.generic_string());
-        material.AddProperty(&replaced, AI_MATKEY_TEXTURE(t, k));
-      }
-    }
-  }
-}
-
-void write_with_assimp(const std::string& input, const std::string& output,
-                       const std::string& final_folder, const std::vector<const Mesh*>& meshes) {
-  Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(input, 0);
-  if (scene == nullptr || scene->mRootNode == nullptr) fail(output, "cannot re-read " + input);
-  std::vector<std::pair<unsigned, aiMatrix4x4>> instances;
-  collect_nodes(*scene->mRootNode, aiMatrix4x4(), instances);
-  const std::string in_ext = extension_of(input), out_ext = extension_of(output);
-  if ((in_ext == "gltf" || in_ext == "glb") && in_ext == out_ext) {
-    // The instances read_meshes returns: those with triangles.
-    std::vector<MeshInstance> placed;
-    for (const auto& [index, world] : instances) {
-      if (index >= scene->mNumMeshes) fail(output, "cannot re-read " + input);
-      const aiMesh* mesh = scene->mMeshes[index];
-      bool has_triangles = false;
-      for (unsigned f = 0; f < mesh->mNumFaces && !has_triangles; ++f)
-        has_triangles = mesh->mFaces[f].mNumIndices >= 3;
-      if (has_triangles) placed.emplace_back(mesh, world);
-    }
-    if (write_gltf_in_place(input, output, final_folder, placed, meshes)) return;
-  }
-  std::size_t next = 0;
-  std::vector<std::uint8_t> done(scene->mNumMeshes, 0);
-  for (const auto& [index, world] : instances) {
-    aiMesh& mesh = *scene->mMeshes[index];
-    bool has_triangles = false;
-    for (unsigned f = 0; f < mesh.mNumFaces && !has_triangles; ++f)
-      has_triangles = mesh.mFaces[f].mNumIndices >= 3;
-    if (!has_triangles) continue;
-    if (next >= meshes.size()) fail(output, "mesh count changed while writing");
-    const Mesh& ours = *meshes[next++];
-    if (done[index]) continue;  // an instanced mesh keeps the positions of its first instance
-    done[index] = 1;
-    if (ours.positions.size() != mesh.mNumVertices) fail(output, "vertex count changed while writing");
-    aiMatrix4x4 inverse = world;
-    inverse.Inverse();
-    for (unsigned v = 0; v < mesh.mNumVertices; ++v) {
-      const aiVector3D world_point(static_cast<ai_real>(ours.positions[v][0]),
-                                   static_cast<ai_real>(ours.positions[v][1]),
-                                   static_cast<ai_real>(ours.positions[v][2]));
-      const aiVector3D back = world * mesh.mVertices[v];
-      // Unmoved vertices keep their stored value exactly (no round trip through the transform).
-      if (back == world_point) continue;
-      mesh.mVertices[v] = inverse * world_point;
-    }
-  }
-  keep_texture_paths(*const_cast<aiScene*>(scene), input, final_folder);
-  Assimp::Exporter exporter;
-  const std::string format = export_format(exporter, extension_of(output), input);
-  if (format.empty()) fail(output, "no writer for the format ." + extension_of(output));
-  // The importer owns the scene; only unnamed nodes get a name (X names them by pointer).
-  prepare_deterministic_export(format, *const_cast<aiScene*>(scene));
-  if (exporter.Export(scene, format, output) != AI_SUCCESS) {
-    std::string why = exporter.GetErrorString();
-    for (char& c : why)
-      if (c == '\n') c = ' ';
-    fail(output, "export failed: " + why);
-  }
-  finish_deterministic_export(format, output, fs::path(output).filename().string());
-}
-
 // Animations and skins as the file states them: a glTF lists them in its JSON (assimp's glTF 1.0
 // importer reads neither), other formats as assimp imports them.
-struct Carried {
-  std::size_t animations = 0, skins = 0, textures = 0;
-};
+using Carried = assimp_module::Carried;
+
+// Re-imports `input` in the module, puts the positions in and exports (or patches a glTF in
+// place), then fixes what the exporter wrote that does not come from the scene.
+void write_with_assimp(const std::string& input, const std::string& output,
+                       const std::string& staged, const std::string& final_folder,
+                       const std::vector<const Mesh*>& meshes) {
+  const assimp_module::Interface& module = assimp_module::get(output, ExitCode::kOutputNotWritten);
+  const std::string format = module.write(
+      input, staged, final_folder, meshes,
+      [&](const std::vector<assimp_module::PlacedMesh>& placed) {
+        return write_gltf_in_place(input, staged, final_folder, placed, meshes);
+      });
+  if (!format.empty()) finish_deterministic_export(format, staged, fs::path(staged).filename().string());
+}
 
 std::size_t json_count(const nlohmann::json& j, const char* key) {
   const auto it = j.find(key);
   return it == j.end() || !(it->is_array() || it->is_object()) ? 0 : it->size();
-}
-
-Carried carried_by(const aiScene& scene) {
-  Carried c;
-  c.animations = scene.mNumAnimations;
-  for (unsigned m = 0; m < scene.mNumMeshes; ++m) c.skins += scene.mMeshes[m]->mNumBones > 0 ? 1 : 0;
-  std::vector<std::string> paths;
-  for (unsigned m = 0; m < scene.mNumMaterials; ++m) {
-    for (int type = aiTextureType_DIFFUSE; type <= AI_TEXTURE_TYPE_MAX; ++type) {
-      const auto t = static_cast<aiTextureType>(type);
-      for (unsigned k = 0; k < scene.mMaterials[m]->GetTextureCount(t); ++k) {
-        aiString path;
-        if (scene.mMaterials[m]->GetTexture(t, k, &path) != AI_SUCCESS) continue;
-        if (std::find(paths.begin(), paths.end(), path.C_Str()) == paths.end()) paths.push_back(path.C_Str());
-      }
-    }
-  }
-  c.textures = std::max<std::size_t>(paths.size(), scene.mNumTextures);
-  return c;
 }
 
 std::string counted(std::size_t n, const char* one, const char* many) {
@@ -272,10 +131,9 @@ std::string export_loss(const std::string& input, const std::string& output) {
   const std::uintmax_t size = std::filesystem::file_size(input, ec);
   if (ec) return "";  // unreadable: reading it reports why
   precheck_for_assimp(input, "." + in, size);
-  Assimp::Importer importer;
-  const aiScene* scene = importer.ReadFile(input, 0);
-  if (scene == nullptr) return "";  // unreadable: reading it reports why
-  const Carried imported = carried_by(*scene);
+  Carried imported;
+  if (!assimp_module::get(input, ExitCode::kUnreadableInput).carried(input, imported))
+    return "";  // unreadable: reading it reports why
   Carried in_file = imported;
   if (in == "gltf" || in == "glb") {
     std::ifstream file(input, std::ios::binary);
@@ -315,8 +173,10 @@ bool can_write(const std::string& output) {
   const std::string ext = extension_of(output);
   if (ext == "obj" || ext == "off") return true;
   if (!is_verified_export(ext)) return false;
-  Assimp::Exporter exporter;
-  return !export_format(exporter, ext).empty();
+  for (const assimp_module::ExporterInfo& e :
+       assimp_module::get(output, ExitCode::kOutputNotWritten).exporters())
+    if (e.extension == ext) return true;
+  return false;
 }
 
 std::vector<std::string> side_files_of_output(const std::string& input, const std::string& output) {
@@ -376,7 +236,7 @@ void write_meshes(const std::string& input, const std::string& output,
   } else if (extension_of(output) == "off") {
     fail(output, "OFF is written only from a plain OFF input");
   } else {
-    write_with_assimp(input, staged.string(), folder.string(), meshes);
+    write_with_assimp(input, output, staged.string(), folder.string(), meshes);
   }
   // Every staged file is checked before the first one is moved: a file the exporter made that
   // the caller could not foresee (side_files_of_output) never replaces an existing one.
