@@ -16,7 +16,9 @@ namespace untangle {
 // OFF and GLB headers and glTF accessors are checked against the file's size before anything is
 // allocated. assimp runs on a helper thread with a large stack (deeply nested files), and the
 // standard streams are silenced while it reads (some of its parsers print): do not call this
-// concurrently with code that writes to std::cout or std::cerr. Never prints.
+// concurrently with code that writes to std::cout or std::cerr. Never prints. A format other than
+// OBJ and plain OFF loads the assimp module (libuntangle_assimp.so) on first need; when it cannot
+// be loaded, Error(kUnreadableInput) names `path` and says why.
 std::vector<Mesh> read_meshes(const std::string& path, Role role);
 
 }  // namespace untangle

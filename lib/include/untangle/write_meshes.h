@@ -13,7 +13,9 @@ namespace untangle {
 // through a temporary file and a rename: never a partial file. OBJ to OBJ rewrites only the `v`
 // lines of moved vertices (shortest round-trip decimal) and keeps every other byte; other
 // combinations re-import `input` with assimp, replace positions (mapped back through the node
-// transforms) and export in the format of `output`'s extension. Throws Error(kOutputNotWritten).
+// transforms) and export in the format of `output`'s extension, in the assimp module (loaded on
+// first need; OBJ to OBJ and OFF to OFF never load it). Throws Error(kOutputNotWritten), also when
+// the module cannot be loaded.
 void write_meshes(const std::string& input, const std::string& output,
                   const std::vector<const Mesh*>& meshes);
 

@@ -87,7 +87,8 @@ State& state() {
 }  // namespace
 
 std::vector<std::string> search_path() {
-  if (const char* forced = std::getenv("UNTANGLE_ASSIMP_MODULE")) return {forced};
+  const char* forced = std::getenv("UNTANGLE_ASSIMP_MODULE");
+  if (forced != nullptr && forced[0] != '\0') return {forced};  // set and not empty
   std::vector<std::string> paths;
   const std::string own = own_folder();
   if (!own.empty()) paths.push_back((fs::path(own) / kFileName).string());

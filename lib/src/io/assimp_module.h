@@ -27,8 +27,8 @@ constexpr std::uint32_t kInterfaceVersion = 1;
 constexpr const char* kEntryPoint = "untangle_assimp_interface";
 
 // The file name of the module, looked for beside the running executable, then in the build
-// folder (UNTANGLE_ASSIMP_MODULE_DIR); the environment variable UNTANGLE_ASSIMP_MODULE, when set,
-// is the one path tried.
+// folder (UNTANGLE_ASSIMP_MODULE_DIR); the environment variable UNTANGLE_ASSIMP_MODULE, when set
+// and not empty, is the one path tried. The first place that holds a file is the one loaded.
 constexpr const char* kFileName = "libuntangle_assimp.so";
 
 // One placed mesh of a glTF input as assimp read it (read_meshes order), for the in-place glTF
