@@ -98,6 +98,7 @@ class RepairLoop {
     IntersectionCounts counts;  // of the current positions
     std::vector<Vec3> before_step;
     std::vector<std::uint8_t> changed(topo_.points.size(), 0);
+    bool cancelled = false;  // by `progress`: nothing more is computed
     stage_index_ = 0;
     stage_ = options_.method == FixMethod::kRegion ? order()[0] : 1;
     for (int iteration = 0;; ++iteration) {
@@ -145,7 +146,10 @@ class RepairLoop {
       record.stage = stage_;
       result.history.push_back(record);
       result.iterations = iteration;
-      if (progress && !progress(record)) break;
+      if (progress && !progress(record)) {
+        cancelled = true;
+        break;
+      }
       if (set.items.empty() && counts.inside_vertices == 0) {
         result.clean = true;
         break;
@@ -188,7 +192,7 @@ class RepairLoop {
       const auto t0 = Clock::now();
       if (result.clean) {
         relax(measures_, *hierarchy, result);
-      } else if (rest_points_.empty() &&
+      } else if (!cancelled && rest_points_.empty() &&
                  std::find(moved_.begin(), moved_.end(), 1) != moved_.end()) {
         // Not in a continuation's steps (those with a rest shape of their own): one that ends
         // unresolved is undone or superseded, and never written.
