@@ -196,7 +196,7 @@ class RepairLoop {
                  std::find(moved_.begin(), moved_.end(), 1) != moved_.end()) {
         // Not in a continuation's steps (those with a rest shape of their own): one that ends
         // unresolved is undone or superseded, and never written.
-        relax_unresolved(last_detected, *hierarchy, counts, result);
+        relax_unresolved(last_detected, *hierarchy, result);
       }
       result.relax_ms = ms(t0, Clock::now());
     }
@@ -266,9 +266,9 @@ class RepairLoop {
   // shape its moves left, unrelaxed: male_casualsuit01 on its body scaled 1.05 wrote 301
   // crossings with an edge stretched 29 times and 173 faces turned over. A relaxed state that is
   // no longer no worse than the input (the part turned or slid beyond max_written_move: 3 of 400
-  // random tangles) is undone. `counts` becomes the relaxed state's.
+  // random tangles) is undone. result.after becomes the relaxed state's counts.
   void relax_unresolved(const std::vector<Vec3>& last_detected, SceneHierarchy& hierarchy,
-                        IntersectionCounts& counts, FixResult& result) {
+                        FixResult& result) {
     std::vector<std::uint8_t> refit(topo_.points.size(), 0);
     for (std::size_t v = 0; v < refit.size(); ++v) refit[v] = topo_.points[v] != last_detected[v];
     hierarchy.update(topo_, refit);
@@ -291,8 +291,7 @@ class RepairLoop {
     relaxed.inside_by_mesh = inside_per_mesh(topo_, inside_);
     for (std::size_t n : relaxed.inside_by_mesh) relaxed.inside_vertices += n;
     if (no_worse_than_input(crossing_kinds(after, relaxed))) {
-      counts = relaxed;
-      result.after = counts;
+      result.after = relaxed;
       return;
     }
     for (std::size_t v = 0; v < refit.size(); ++v) refit[v] = topo_.points[v] != unrelaxed[v];
