@@ -29,6 +29,7 @@
 #include "formats.h"
 #include "output_plan.h"
 #include "pipeline.h"
+#include "process_memory.h"
 #include "simulate.h"
 #include "render.h"
 
@@ -337,6 +338,7 @@ void add_common(CLI::App& cmd, CommonOptions& o, bool with_check_options) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  untangle::app::prefer_huge_pages();
   CLI::App app{"untangle: find and repair intersecting triangle meshes (garments, bodies, cloth)",
                "untangle"};
   app.footer(kExitCodes);
