@@ -143,13 +143,9 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
     // The thickness behind v: the first surface a ray inward meets, from just inside.
     const double eps = 1e-4 * measures.vertex_edge[v];
     const Vec3 from = sub(topo.points[v], scale(n, eps));
-    const TreeKernel::Ray_3 ray(TreeKernel::Point_3(from[0], from[1], from[2]),
-                                TreeKernel::Vector_3(-n[0], -n[1], -n[2]));
     double thickness = INFINITY;
-    if (const auto hit = tree->tree.first_intersection(ray)) {
-      if (const auto* point = boost::get<TreeKernel::Point_3>(&hit->first))
-        thickness = norm(sub(Vec3{point->x(), point->y(), point->z()}, from)) + eps;
-    }
+    Vec3 hit;
+    if (first_ray_hit(*tree, from, scale(n, -1.0), hit)) thickness = norm(sub(hit, from)) + eps;
     const double s = std::min(shrink[v], kThickness * thickness);
     if (!(s > 0.0)) continue;
     inward[v] = scale(n, -s);

@@ -124,15 +124,11 @@ std::vector<PartMoves> part_moves(const RepairContext& ctx, Scratch& scratch, st
           ok = false;
           continue;
         }
-        const auto exit = tree.tree.first_intersection(
-            TreeKernel::Ray_3(query, TreeKernel::Vector_3(d[0], d[1], d[2])));
-        const TreeKernel::Point_3* point = nullptr;
-        if (exit) point = boost::get<TreeKernel::Point_3>(&exit->first);
-        if (point == nullptr) {
+        Vec3 x;
+        if (!first_ray_hit(tree, p, d, x)) {
           ok = false;
           continue;
         }
-        const Vec3 x{point->x(), point->y(), point->z()};
         (sign > 0 ? ray_up : ray_down)[i] = add(sub(x, p), scale(d, clearance));
       }
     }

@@ -26,6 +26,26 @@ std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
   return out;
 }
 
+bool first_ray_hit(const MeshTree& tree, const Vec3& from, const Vec3& direction, Vec3& out) {
+  if (tree.triangles.empty()) return false;
+  const TreeKernel::Point_3 p(from[0], from[1], from[2]);
+  const TreeKernel::Vector_3 d(direction[0], direction[1], direction[2]);
+  const auto hit = tree.tree.first_intersected_primitive(TreeKernel::Ray_3(p, d));
+  if (!hit) return false;
+  const TreeKernel::Triangle_3& triangle = **hit;
+  if (CGAL::orientation(triangle[0], triangle[1], triangle[2], p) == CGAL::COPLANAR &&
+      CGAL::orientation(triangle[0], triangle[1], triangle[2], p + d) == CGAL::COPLANAR)
+    return false;  // along a segment
+  auto vec = [](const TreeKernel::Point_3& q) { return Vec3{q.x(), q.y(), q.z()}; };
+  const Vec3 a = vec(triangle[0]);
+  const Vec3 n = cross(sub(vec(triangle[1]), a), sub(vec(triangle[2]), a));
+  const double across = dot(n, direction);
+  if (!(across != 0.0)) return false;
+  const double t = std::max(0.0, dot(n, sub(a, from)) / across);
+  out = add(from, scale(direction, t));
+  return true;
+}
+
 Vec3 face_normal(const SceneTopology& topo, std::uint32_t t) {
   const auto& tri = topo.tris[t];
   return unit(cross(sub(topo.points[tri[1]], topo.points[tri[0]]),

@@ -27,6 +27,14 @@ using FreshTrees = std::map<std::uint32_t, std::unique_ptr<MeshTree>>;
 std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
                                      const std::vector<std::uint32_t>& tris);
 
+// The first point where the ray from `from` along `direction` meets a triangle of `tree` in one
+// point (a ray in the plane of the triangle it meets first, which meets it along a segment, gives
+// none): false when it meets nothing. CGAL picks the triangle; the point is computed here from its
+// corners, homogeneously in the coordinates, so that a scene scaled by a power of two gives the
+// same point scaled, bit for bit (CGAL's constructed intersection point does not: measured on the
+// MakeHuman body, the last bits differed at 1024 times the size, and the region moves with them).
+bool first_ray_hit(const MeshTree& tree, const Vec3& from, const Vec3& direction, Vec3& out);
+
 // The unit normal of triangle t by its winding.
 Vec3 face_normal(const SceneTopology& topo, std::uint32_t t);
 // The unit normal of triangle t turned by its orientation sign (face_orientations).
