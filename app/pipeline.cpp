@@ -72,14 +72,16 @@ std::vector<std::string> plan_outputs(const CommonOptions& o) {
   for (std::size_t k = 0; k < outputs.size(); ++k) {
     const std::string& out = outputs[k];
     if (out == "-") refuse(out, "meshes are written to files, not to stdout");
-    if (!can_write(out)) refuse(out, "no writer for this file extension (`untangle formats` lists those it writes)");
     auto ext = [](const std::string& p) {
       std::string e = fs::path(p).extension().string();
       for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
       return e;
     };
+    // Before can_write, which loads the assimp module for formats other than OBJ and OFF: an OBJ
+    // input is refused any other output whether or not assimp could write it.
     if (ext(o.inputs[k]) == ".obj" && ext(out) != ".obj")
       refuse(out, "an OBJ input is written as OBJ (its lines are kept as they are)");
+    if (!can_write(out)) refuse(out, "no writer for this file extension (`untangle formats` lists those it writes)");
     if (ext(out) == ".off") {
       std::ifstream in(o.inputs[k]);
       std::string keyword;

@@ -164,10 +164,20 @@ TEST(AssimpModule, MissingModuleIsOneLineNamingTheFile) {
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find(dir.file("tri.ply") + ": " + why), std::string::npos) << r.err;
 
-  r = run_cli("fix" + files.inputs_args() + " -o " + quote(dir.file("out.ply")));
+  // An OFF input may be written as PLY, which needs the module.
+  write_off(read_meshes(files.movable[0], Role::kMovable).front(), dir.file("sheet.off"));
+  r = run_cli("fix " + quote(dir.file("sheet.off")) + " --obstacle " + quote(files.obstacles[0]) +
+              " -o " + quote(dir.file("out.ply")));
   EXPECT_EQ(r.exit_code, 4);
   EXPECT_EQ(lines(r.err), 1u) << r.err;
   EXPECT_NE(r.err.find(dir.file("out.ply") + ": " + why), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir.file("out.ply")));
+  // An OBJ input is never written as PLY: told so, without the module.
+  r = run_cli("fix" + files.inputs_args() + " -o " + quote(dir.file("out.ply")));
+  EXPECT_EQ(r.exit_code, 4);
+  EXPECT_EQ(lines(r.err), 1u) << r.err;
+  EXPECT_NE(r.err.find(dir.file("out.ply") + ": an OBJ input is written as OBJ"), std::string::npos)
+      << r.err;
   EXPECT_FALSE(fs::exists(dir.file("out.ply")));
 
   r = run_cli("formats");
