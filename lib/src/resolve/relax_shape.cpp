@@ -138,11 +138,15 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   std::vector<ShapeSolve::Contact> contacts(part.size());
   std::vector<double> shrink(part.size(), 1.0);
   std::vector<double> margin(part.size(), 1.0);  // contact plane offset, in clearances
-  std::vector<std::uint8_t> changed(topo.points.size(), 0), refit(topo.points.size(), 0);
+  // away: a part vertex away from where the sweep started (trying); stepped: moved since the
+  // pass before.
+  std::vector<std::uint8_t> away(topo.points.size(), 0), stepped(topo.points.size(), 0);
+  std::vector<std::uint8_t> refit(topo.points.size(), 0);
   std::vector<std::uint8_t> near(topo.points.size(), 0);
-  const CrossingSet none;
+  std::vector<Vec3> start;  // the positions at the sweep's start (topo.points: the last pass's)
   for (int sweep = 0; sweep < in.max_sweeps && solve.factored_unknowns() <= kFactoredBudget;
        ++sweep) {
+    start = topo.points;
     // Contact planes of the vertices near an obstacle: the tangent plane at the closest point,
     // moved out by the clearance.
     for (std::size_t i = 0; i < part.size(); ++i) {
@@ -164,15 +168,19 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
     // Passes: solve with what is blocked, move, block what the exact tests refuse, and solve
     // again from the sweep's start, so that what moves always fits around what holds.
     bool clean = false, any = false, settled = false;
+    // The crossings of the last pass's positions among the triangles that moved in this sweep:
+    // each pass is detected from the one before, so that a pass that only shortened some steps
+    // (the goals kept) tests only those vertices' triangles again. Each sweep starts empty.
+    CrossingSet carried;
     std::fill(near.begin(), near.end(), 0);
     std::fill(shrink.begin(), shrink.end(), 1.0);
     std::vector<std::uint8_t> solved_with;
     for (int pass = 0; pass < kHoldPasses && !clean; ++pass) {
       if (solved_with != blocked) {  // a pass that only shortened steps keeps the goals
         if (goals.empty())
-          solve.targets(topo.points, blocked, contacts, kArapIterations, goals);
+          solve.targets(start, blocked, contacts, kArapIterations, goals);
         else
-          solve.targets(topo.points, blocked, contacts, kWarmIterations, goals, &goals);
+          solve.targets(start, blocked, contacts, kWarmIterations, goals, &goals);
         solved_with = blocked;
       }
       double largest = 0.0;
@@ -240,16 +248,31 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
       for (std::size_t i = 0; i < part.size(); ++i) {
         const std::uint32_t v = part[i];
         const Vec3& p = trying[i] ? to[i] : from[i];
-        if (p != topo.points[v]) refit[v] = 1;
+        stepped[v] = p != topo.points[v];
+        if (stepped[v]) refit[v] = 1;
         topo.points[v] = p;
-        changed[v] = trying[i];
+        away[v] = trying[i];
       }
       hierarchy.update(topo, refit);
       std::fill(refit.begin(), refit.end(), 0);
-      const CrossingSet found = update_crossings(topo, in.detect, hierarchy, none, changed);
+      carried = update_crossings(topo, in.detect, hierarchy, carried, stepped);
       find_inside_vertices(topo, measures.role, in.winding, near, in.threads, inside);
+      // What a detection from the sweep's start over the trying vertices reports: the crossings
+      // whose face, or the triangle that owns the edge (its lowest), has a corner away from the
+      // start. A crossing the start already had among triangles that did not move is not this
+      // sweep's (an unresolved state's remaining ones), even when a pass before moved them.
+      auto away_triangle = [&](std::uint32_t t) {
+        for (std::uint32_t v : topo.tris[t])
+          if (away[v]) return true;
+        return false;
+      };
+      auto moved_corner = [&](const RawCrossing& x) {
+        return away_triangle(topo.edge_faces[topo.edge_face_begin[x.edge]]) ||
+               away_triangle(x.face);
+      };
       std::vector<std::uint8_t> bad(topo.points.size(), 0), against(topo.points.size(), 0);
-      for (const RawCrossing& x : found.items) {
+      for (const RawCrossing& x : carried.items) {
+        if (!moved_corner(x)) continue;
         for (std::uint32_t v : topo.edges[x.edge]) bad[v] = 1;
         for (std::uint32_t v : topo.tris[x.face]) bad[v] = 1;
         if (measures.role[topo.edge_mesh(x.edge)] == Role::kObstacle ||
@@ -268,15 +291,15 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
         ++result.held;
         clean = false;
       }
-      if (!clean)
-        for (std::size_t i = 0; i < part.size(); ++i)
-          if (trying[i]) {
-            topo.points[part[i]] = from[i];
-            refit[part[i]] = 1;
-          }
     }
-    std::fill(changed.begin(), changed.end(), 0);
+    std::fill(away.begin(), away.end(), 0);
     if (!clean) {
+      // Back to the sweep's start.
+      for (std::size_t i = 0; i < part.size(); ++i)
+        if (topo.points[part[i]] != from[i]) {
+          topo.points[part[i]] = from[i];
+          refit[part[i]] = 1;
+        }
       hierarchy.update(topo, refit);
       std::fill(refit.begin(), refit.end(), 0);
       find_inside_vertices(topo, measures.role, in.winding, near, in.threads, inside);
