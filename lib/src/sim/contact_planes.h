@@ -1,10 +1,11 @@
 // Contact inside the integrator: at the start of every step, each cloth particle within reach of
-// an obstacle or of another cloth mesh gets, per such mesh, the tangent plane at its closest point
-// there as a one-sided constraint of that step's solve (cloth_model.h, integrate_step). The planes
-// are made fresh every step, so they follow the cloth as it wraps round and as the sheets below
-// it move; resting contact then holds without the correction having to undo every step's push
-// into what the cloth lies on. What slips between the planes (an edge over a spike's tip, a fold
-// of a sheet onto itself) is the correction's, as before.
+// an obstacle, of another cloth mesh or of a far part of its own mesh gets, per such mesh, the
+// tangent plane at its closest point there as a one-sided constraint of that step's solve
+// (cloth_model.h, integrate_step). The planes are made fresh every step, so they follow the cloth
+// as it wraps round and as the sheets below it move; resting contact then holds without the
+// correction having to undo every step's push into what the cloth lies on. What slips between the
+// planes (an edge over a spike's tip, an edge of a fold through an edge of the layer under it) is
+// the correction's, as before.
 #pragma once
 
 #include <cstdint>
@@ -38,11 +39,19 @@ class ContactPlanes {
   //    plane `clearance` out from the vertex along the vertex's outward normal (a face plane: a
   //    coarse ball's vertices poke out between the cloth's particles). A tip (an angle defect
   //    beyond about 57 degrees: a spike's) gets none; the correction handles it.
+  //  - with `self`, a particle within reach of a triangle of its own mesh that is far from it on
+  //    the cloth (no corner within 1.5 times the reach of it along the edges of the rest shape,
+  //    model.topo.points) gets a plane as against another cloth mesh, from the closest such
+  //    point: a fold of the sheet onto itself is held apart in the solve. A flat sheet gets none.
   void make(const ClothModel& model, const std::vector<Vec3>& x, double reach, double clearance,
-            ContactSet& out);
+            bool self, ContactSet& out);
+  // How many of the planes of the last make are self-contact planes.
+  std::size_t self_planes() const { return self_planes_; }
 
  private:
   void build_obstacle_tree();
+  // near_ and near_begin_ for `radius` (scene units).
+  void find_near(const SceneTopology& cloth, double radius);
 
   // Obstacles.
   std::vector<std::uint32_t> obstacle_mesh_;  // scene index of each obstacle mesh of topo_
@@ -63,6 +72,12 @@ class ContactPlanes {
   // Cloth meshes of the model (topology meshes), their triangles and trees of this step.
   std::vector<TreeTriangleList> cloth_triangles_;
   std::vector<std::unique_ptr<TriangleTree>> cloth_trees_;
+  std::size_t self_planes_ = 0;
+  // Self-contact: per particle, the particles within near_radius_ times kSelfApart of it along
+  // the cloth's edges at rest (CSR: near_[near_begin_[i] .. near_begin_[i + 1]), itself first),
+  // whose triangles give it no plane; stamp_ marks them while particle i is tested (i + 1).
+  double near_radius_ = -1.0;
+  std::vector<std::uint32_t> near_begin_, near_, stamp_;
 };
 
 }  // namespace untangle

@@ -127,7 +127,8 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
       if (obstacles_moved) s.planes->update_obstacles(s.scene.meshes);
       const double clearance = o.fix.clearance * s.model.mean_edge;
       s.planes->make(s.model, s.x, clearance + o.contact_reach * s.model.mean_edge, clearance,
-                     s.contacts);
+                     o.self_contacts, s.contacts);
+      record.self_planes += s.planes->self_planes();
     }
     integrate_step(s.model, o, s.h, s.x, s.v, s.contacts, &s.touching);
     if (round)
