@@ -63,8 +63,8 @@ struct SceneInput {
   std::vector<std::size_t> meshes;
 };
 
-// The numbers and counts of ClothOptions a scene file's `cloth` object names (gravity and contacts
-// aside): read by load_scene_file, written by example_scene_file, in this order.
+// The numbers and counts of ClothOptions a scene file's `cloth` object names (gravity and the
+// contact switches aside): read by load_scene_file, written by example_scene_file, in this order.
 const std::pair<const char*, double ClothOptions::*> kClothNumbers[] = {
     {"time_step", &ClothOptions::time_step},     {"stretch", &ClothOptions::stretch},
     {"bend", &ClothOptions::bend},               {"damping", &ClothOptions::damping},
@@ -107,6 +107,7 @@ nlohmann::ordered_json example_scene_file(const SimulationScene& scene,
   nlohmann::ordered_json cloth;
   cloth["gravity"] = {c.gravity[0], c.gravity[1], c.gravity[2]};
   cloth["contacts"] = c.contacts;
+  cloth["self_contacts"] = c.self_contacts;
   for (const auto& [name, member] : kClothCounts) cloth[name] = c.*member;
   for (const auto& [name, member] : kClothNumbers) cloth[name] = c.*member;
   j["cloth"] = cloth;
@@ -172,6 +173,9 @@ SimulationScene load_scene_file(const std::string& file, std::vector<SceneInput>
       } else if (key == "contacts") {
         if (!value.is_boolean()) bad_key(file, name, "must be true or false");
         o.contacts = value.get<bool>();
+      } else if (key == "self_contacts") {
+        if (!value.is_boolean()) bad_key(file, name, "must be true or false");
+        o.self_contacts = value.get<bool>();
       } else if (const auto n = numbers.find(key); n != numbers.end()) {
         *n->second = number(value, name);
       } else if (const auto k = counts.find(key); k != counts.end()) {
@@ -348,7 +352,8 @@ int run_simulate(const SimulateOptions& o) {
   nlohmann::ordered_json report;
   // 2: options.contacts and options.contact_reach replace hold_contacts and release_distance.
   // 3: options.relax_sweeps.
-  report["schema_version"] = 3;
+  // 4: options.self_contacts and each frame's self_planes.
+  report["schema_version"] = 4;
   report["command"] = "simulate";
   report["untangle_version"] = UNTANGLE_VERSION;
   if (example)
@@ -356,12 +361,19 @@ int run_simulate(const SimulateOptions& o) {
   else
     report["scene"] = o.scene_file;
   const ClothOptions& c = scene.options;
-  report["options"] = {{"frames", frames},         {"time_step", c.time_step},
-                       {"substeps", c.substeps},   {"solver_iterations", c.solver_iterations},
-                       {"stretch", c.stretch},     {"bend", c.bend},
-                       {"damping", c.damping},     {"friction", c.friction},
-                       {"max_speed", c.max_speed}, {"contacts", c.contacts},
-                       {"contact_reach", c.contact_reach}, {"clearance", c.fix.clearance},
+  report["options"] = {{"frames", frames},
+                       {"time_step", c.time_step},
+                       {"substeps", c.substeps},
+                       {"solver_iterations", c.solver_iterations},
+                       {"stretch", c.stretch},
+                       {"bend", c.bend},
+                       {"damping", c.damping},
+                       {"friction", c.friction},
+                       {"max_speed", c.max_speed},
+                       {"contacts", c.contacts},
+                       {"self_contacts", c.self_contacts},
+                       {"contact_reach", c.contact_reach},
+                       {"clearance", c.fix.clearance},
                        {"relax_sweeps", c.fix.relax_sweeps}};
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   const std::vector<Mesh> start_meshes = scene.meshes;
@@ -384,7 +396,8 @@ int run_simulate(const SimulateOptions& o) {
                                   {"corrected_steps", r.corrected_steps},
                                   {"uncorrected_steps", r.uncorrected_steps},
                                   {"kinetic_energy", r.kinetic_energy},
-                                  {"max_stretch", r.max_stretch}};
+                                  {"max_stretch", r.max_stretch},
+                                  {"self_planes", r.self_planes}};
     if (std::binary_search(saved.begin(), saved.end(), f)) {
       // Written, then read back with the obstacles at this frame: the written file is the truth.
       std::vector<Mesh> written;

@@ -532,7 +532,7 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
     "meshes": [{"path": "cloth.obj"}, {"path": "box.obj", "role": "obstacle"}],
     "frames": 2,
     "relax_sweeps": 7,
-    "cloth": {"contacts": false, "contact_reach": 2.5}
+    "cloth": {"contacts": false, "self_contacts": false, "contact_reach": 2.5}
   })");
   const std::string report = dir.file("planes_report.json");
   const testing::RunResult planes =
@@ -540,8 +540,10 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
                        testing::quote(dir.file("o3")) + " -q --report " + testing::quote(report));
   ASSERT_EQ(planes.exit_code, 0) << planes.err;
   const nlohmann::json j = nlohmann::json::parse(testing::read_text(report));
-  EXPECT_EQ(j["schema_version"], 3);
+  EXPECT_EQ(j["schema_version"], 4);
   EXPECT_EQ(j["options"]["contacts"], false);
+  EXPECT_EQ(j["options"]["self_contacts"], false);
+  EXPECT_EQ(j["frames"][0]["self_planes"], 0);
   EXPECT_EQ(j["options"]["contact_reach"], 2.5);
   EXPECT_EQ(j["options"]["relax_sweeps"], 7);
   for (const char* bad : {"-1", "2.5", "\"3\"", "1001"}) {
