@@ -172,6 +172,7 @@ SimulationScene folded_sheet_over_box() {
     }
   scene.meshes.push_back(std::move(sheet));
   scene.meshes.push_back(box_obstacle());
+  scene.options.self_contacts = true;  // off by default (ClothOptions)
   return scene;
 }
 
@@ -181,7 +182,9 @@ SimulationScene folded_sheet_over_box() {
 // sheet planes from frame 1, 1.0 none). The folded sheet gets them (none with self_contacts
 // off).
 TEST(Simulate, SelfContactPlanesOnlyWhereTheSheetMeetsItself) {
-  Simulation sim(sheet_over_box());
+  SimulationScene flat = sheet_over_box();
+  flat.options.self_contacts = true;
+  Simulation sim(std::move(flat));
   for (int f = 0; f < 30; ++f) ASSERT_EQ(sim.advance().self_planes, 0u) << "frame " << f + 1;
   std::size_t planes[2] = {0, 0};
   for (int self = 0; self < 2; ++self) {
