@@ -252,8 +252,12 @@ void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, do
     // self-contact candidates are found by box overlaps, which need no search tree.
     if (needed[b]) cloth_trees_[b]->accelerate_distance_queries();
   }
-  if (self && near_radius_ != reach) find_near(cloth, kSelfApart * reach);
-  near_radius_ = reach;
+  // The neighbourhoods are found for the reach they were asked with (once: the reach is fixed
+  // per simulation), and only when self-contact is on.
+  if (self && near_radius_ != reach) {
+    find_near(cloth, kSelfApart * reach);
+    near_radius_ = reach;
+  }
   std::vector<TreePrimitive::Id> candidates;
   auto plane = [&](const Vec3& p, const Vec3& q, bool both_move) {
     const Vec3 off = sub(p, q);
