@@ -18,7 +18,9 @@
 #include "test_support.h"
 #include "untangle/error.h"
 #include "untangle/intersections.h"
+#include "geometry/vec3.h"
 #include "resolve/inside_vertices.h"
+#include "resolve/repair_loop.h"
 #include "untangle/read_meshes.h"
 #include "untangle/simulate.h"
 
@@ -64,6 +66,47 @@ double lowest_y(const Mesh& mesh) {
   double y = std::numeric_limits<double>::infinity();
   for (const Vec3& p : mesh.positions) y = std::min(y, p[1]);
   return y;
+}
+
+// The correction of a step relaxes toward the cloth's rest shape, not toward the step's end: a
+// sheet whose middle an earlier correction left stretched (up to 1.5 times, a bump that falls off
+// over two edges) is pushed into the ball; around what the repair moved, relaxing toward the rest
+// shape evens the stretch out, where relaxing toward the input keeps it (DESIGN §7).
+TEST(Simulate, TheCorrectionRelaxesTowardTheRestShape) {
+  const Mesh rest = scenes::grid_sheet(21, 21, {-0.8, 0.46, -0.8}, {1.6, 0.013, 0.0},
+                                       {0.0, -0.011, 1.6}, "sheet");
+  Mesh bumped = rest;
+  const Vec3 middle{0.0, 0.46, 0.0};
+  for (Vec3& p : bumped.positions) {
+    const Vec3 off{p[0] - middle[0], 0.0, p[2] - middle[2]};
+    p = add(p, scale(off, 0.5 * std::exp(-dot(off, off) / (0.15 * 0.15))));
+  }
+  Mesh ball = scenes::uv_sphere({0.01, 0.0, -0.02}, 0.5, 32, 16, "ball");
+  ball.role = Role::kObstacle;
+  const std::vector<Mesh> input = {bumped, ball};
+  ASSERT_GT(crossings_with_obstacles(input), 0u);
+  const std::vector<std::vector<Vec3>> toward = {rest.positions, ball.positions};
+  std::vector<Mesh> to_input = input, to_rest = input;
+  FixOptions options;
+  options.threads = 1;
+  ASSERT_TRUE(fix_meshes(to_input, options).clean);
+  ASSERT_TRUE(fix_meshes_toward(to_rest, &toward, options, {}, {}, {}).clean);
+  EXPECT_EQ(crossings_with_obstacles(to_rest), 0u);
+  // The largest length over rest length of the sheet's edges.
+  auto stretch = [&](const Mesh& sheet) {
+    double most = 0.0;
+    for (const auto& t : sheet.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t i = t[k], j = t[(k + 1) % 3];
+        most = std::max(most, norm(sub(sheet.positions[i], sheet.positions[j])) /
+                                  norm(sub(rest.positions[i], rest.positions[j])));
+      }
+    return most;
+  };
+  const double kept = stretch(to_input[0]), relaxed = stretch(to_rest[0]);
+  EXPECT_GT(kept, 1.3);
+  EXPECT_LT(relaxed - 1.0, 0.5 * (kept - 1.0))
+      << "toward the input " << kept << ", toward the rest " << relaxed;
 }
 
 // The sheet falls onto the ball: every frame ends with zero crossings (re-detected here, not taken

@@ -128,11 +128,29 @@ const char* to_string(FixMethod method) {
 
 FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                      const std::function<Vec3(const Vec3&)>& round, const FixProgress& progress) {
+  return fix_meshes_toward(meshes, nullptr, options, pins, round, progress);
+}
+
+FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
+                            const std::vector<std::vector<Vec3>>* rest, const FixOptions& options,
+                            const PinMask& pins, const std::function<Vec3(const Vec3&)>& round,
+                            const FixProgress& progress) {
   // The repair runs on the canonical scene (canonical_order.h): every mesh renumbered, the meshes
   // in an order of their own, so that neither the file's order nor the listing order matters.
   CanonicalScene scene = canonical_scene(meshes, pins);
   std::vector<Mesh>& work = scene.meshes;
   const PinMask& work_pins = scene.pins;
+  // The rest shape renumbered as the scene is.
+  std::vector<Mesh> rest_work;
+  if (rest != nullptr) {
+    rest_work = work;
+    for (std::size_t c = 0; c < work.size(); ++c) {
+      const std::vector<Vec3>& from = (*rest)[scene.mesh_order[c]];
+      const std::vector<std::uint32_t>& order = scene.renumbering[c].vertex_order;
+      for (std::size_t k = 0; k < order.size(); ++k) rest_work[c].positions[k] = from[order[k]];
+    }
+  }
+  const std::vector<Mesh>* toward = rest != nullptr ? &rest_work : nullptr;
 
   // Retries and the continuation start from the input again: keep it while there may be one.
   const std::vector<Mesh> start =
@@ -142,7 +160,7 @@ FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const
     if (progress && !progress(record)) cancelled = true;
     return !cancelled;
   };
-  FixResult result = run_repair(work, options, work_pins, round, watch);
+  FixResult result = run_repair(work, options, work_pins, round, watch, toward);
   result.clearance = options.clearance;
   FixOptions retry = options;
   const auto illegal = [](const FixResult& r) {
@@ -151,7 +169,7 @@ FixResult fix_meshes(std::vector<Mesh>& meshes, const FixOptions& options, const
   for (int k = 0; k < options.retries && !result.clean && !cancelled; ++k) {
     retry.clearance *= 2.0;
     std::vector<Mesh> attempt = start;
-    FixResult r = run_repair(attempt, retry, work_pins, round, watch);
+    FixResult r = run_repair(attempt, retry, work_pins, round, watch, toward);
     RetryRecord record{retry.clearance, r.clean, r.after.crossings, r.after.inside_vertices,
                        r.iterations, false};
     if (cancelled) break;

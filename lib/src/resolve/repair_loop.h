@@ -18,4 +18,12 @@ FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const
                      const Rounding& round, const FixProgress& progress,
                      const std::vector<Mesh>* rest = nullptr);
 
+// fix_meshes (fix.h) whose relaxation moves toward `rest` (per mesh, per input vertex; an
+// obstacle's entry its positions now) in place of the input's shape: the simulation's correction,
+// whose input is a step's end and whose cloth has a rest shape of its own. Null: fix_meshes.
+FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
+                            const std::vector<std::vector<Vec3>>* rest, const FixOptions& options,
+                            const PinMask& pins, const std::function<Vec3(const Vec3&)>& round,
+                            const FixProgress& progress);
+
 }  // namespace untangle

@@ -7,6 +7,7 @@
 #include "sim/cloth_model.h"
 #include "sim/contact_planes.h"
 #include "sim/step_detector.h"
+#include "resolve/repair_loop.h"
 #include "untangle/error.h"
 #include "untangle/simulate.h"
 
@@ -17,6 +18,9 @@ struct Simulation::State {
   ClothModel model;
   std::vector<Vec3> x, v;                        // per particle
   std::vector<std::vector<Vec3>> obstacle_rest;  // per mesh: positions at frame 0 (obstacles)
+  // Per mesh: the shape each correction relaxes toward: the cloth's rest shape (its positions at
+  // frame 0), an obstacle's positions now.
+  std::vector<std::vector<Vec3>> relax_toward;
   std::unique_ptr<StepDetector> detector;        // kept across steps (correct only)
   std::unique_ptr<ContactPlanes> planes;         // ClothOptions::contacts
   ContactSet contacts;                           // this step's
@@ -88,6 +92,7 @@ Simulation::Simulation(SimulationScene scene) : state_(std::make_unique<State>()
   s.obstacle_rest.resize(s.scene.meshes.size());
   for (std::size_t m = 0; m < s.scene.meshes.size(); ++m)
     if (s.scene.meshes[m].role == Role::kObstacle) s.obstacle_rest[m] = s.scene.meshes[m].positions;
+  for (const Mesh& mesh : s.scene.meshes) s.relax_toward.push_back(mesh.positions);
   if (s.scene.options.contacts)
     s.planes = std::make_unique<ContactPlanes>(s.scene.meshes, s.model, s.scene.options.fix.threads);
   if (s.scene.options.correct)
@@ -147,7 +152,12 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
         record.crossings_after = 0;
         record.corrected = true;
       } else {
-        const FixResult fixed = fix_meshes(s.scene.meshes, o.fix, s.scene.pins, round);
+        if (obstacles_moved)
+          for (std::size_t m = 0; m < s.scene.meshes.size(); ++m)
+            if (s.scene.meshes[m].role == Role::kObstacle)
+              s.relax_toward[m] = s.scene.meshes[m].positions;
+        const FixResult fixed =
+            fix_meshes_toward(s.scene.meshes, &s.relax_toward, o.fix, s.scene.pins, round, {});
         record.crossings_before += fixed.before.crossings;
         record.crossings_after = fixed.after.crossings;
         record.correction_iterations += fixed.iterations;
