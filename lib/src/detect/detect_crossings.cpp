@@ -253,11 +253,6 @@ bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t,
   return separates(a, b, turn_a) || separates(b, a, turn_b);
 }
 
-bool surely_apart(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, PairSides& sides) {
-  const auto &a = topo.detect_tris()[t], &b = topo.detect_tris()[u];
-  return surely_apart_at(topo.points, a, b, tri_plane(topo.points, a), tri_plane(topo.points, b), sides);
-}
-
 }  // namespace
 
 bool triangles_surely_apart(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& a,
@@ -547,6 +542,16 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
   std::vector<std::vector<RawCrossing>> found;
   if (!retest.empty()) {
     const TriangleBvh moved_tree(topo, retest);
+    // The TriPlane of each retested triangle, found once (a moved triangle is in several pairs,
+    // and one of every pair is moved); only their slots are written and read.
+    const auto& tris = topo.detect_tris();
+    std::unique_ptr<TriPlane[]> planes(new TriPlane[topo.tris.size()]);
+    run_parallel(settings.threads, retest.size(), 1024, [&](std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i) planes[retest[i]] = tri_plane(topo.points, tris[retest[i]]);
+    });
+    auto plane_of = [&](std::uint32_t t) {
+      return affected[t] ? planes[t] : tri_plane(topo.points, tris[t]);
+    };
     std::vector<const TriangleBvh*> others;
     for (std::size_t m = 0; m < meshes; ++m)
       if (const TriangleBvh* tree = hierarchy.mesh(m)) others.push_back(tree);
@@ -575,9 +580,9 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
           }
           // A pair of two retested triangles is tested once, from the lower one.
           if (u == t || (affected[u] && u < t)) return;
-          if (shared_vertices(topo.detect_tris()[t], topo.detect_tris()[u]) >= 2) return;
+          if (shared_vertices(tris[t], tris[u]) >= 2) return;
           PairSides sides;
-          if (surely_apart(topo, t, u, sides)) return;
+          if (surely_apart_at(topo.points, tris[t], tris[u], plane_of(t), plane_of(u), sides)) return;
           test_owned_edges(topo, t, u, sides.of_t, found[j]);
           test_owned_edges(topo, u, t, sides.of_u, found[j]);
         });
