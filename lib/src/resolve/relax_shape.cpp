@@ -115,8 +115,14 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
     if (measures.role[topo.tri_mesh[t]] == Role::kObstacle && !measures.buried[t])
       obstacle_tris.push_back(t);
-  const std::unique_ptr<MeshTree> obstacles =
-      obstacle_tris.empty() ? nullptr : build_tree(topo, obstacle_tris);
+  std::unique_ptr<MeshTree> own;
+  const MeshTree* obstacles = nullptr;
+  if (!obstacle_tris.empty() && in.trees != nullptr) {
+    obstacles = &in.trees->obstacle_tree(obstacle_tris);
+  } else if (!obstacle_tris.empty()) {
+    own = build_tree(topo, obstacle_tris);
+    obstacles = own.get();
+  }
   auto distance = [&](const Vec3& p) {
     return std::sqrt(obstacles->tree.squared_distance(TreeKernel::Point_3(p[0], p[1], p[2])));
   };

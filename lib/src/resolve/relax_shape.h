@@ -16,6 +16,8 @@
 
 namespace untangle {
 
+class SurfaceTrees;
+
 struct RelaxShapeResult {
   int sweeps = 0;             // sweeps run
   std::size_t relaxed = 0;    // welded vertices whose position the relaxation changed
@@ -39,6 +41,8 @@ struct RelaxShapeInputs {
   // since `moved_from` seed the part. Null: `input` is both.
   const std::vector<Vec3>* moved_from = nullptr;
   int max_sweeps = FixOptions{}.relax_sweeps;  // sweeps at most
+  // Where the obstacles' tree is kept for the run (they never move), or null: built here.
+  SurfaceTrees* trees = nullptr;
 };
 
 // Relaxes topo.points in place: the moved vertices and kRelaxRings rings around them move toward

@@ -254,6 +254,7 @@ class RepairLoop {
                            winding_, {}, options_.threads, other_rest ? &start_points_ : nullptr};
     for (double e : measures.mean_edge) relax.clearance.push_back(options_.clearance * e);
     relax.max_sweeps = options_.relax_sweeps;
+    relax.trees = &trees_;
     const RelaxShapeResult relaxed = relax_shape(relax, topo_, hierarchy, inside_, moved_);
     result.relax_sweeps = relaxed.sweeps;
     result.relaxed_vertices = relaxed.relaxed;

@@ -122,6 +122,15 @@ bool SurfaceTrees::nearest_obstacle_point(const Vec3& p, Vec3& out) {
   return std::isfinite(best);
 }
 
+const MeshTree& SurfaceTrees::obstacle_tree(const std::vector<std::uint32_t>& tris) {
+  for (const auto& [component, tree] : obstacle_trees_)
+    if (tree && tree->ids == tris) return *tree;
+  for (const std::unique_ptr<MeshTree>& tree : obstacle_lists_)
+    if (tree->ids == tris) return *tree;
+  obstacle_lists_.push_back(build_tree(topo_, tris));
+  return *obstacle_lists_.back();
+}
+
 std::vector<NearPoint> near_points(const SceneTopology& topo, const SceneMeasures& measures,
                                    std::uint32_t component, const MeshTree& tree, double near,
                                    long long& vote) {

@@ -57,11 +57,16 @@ class SurfaceTrees {
   const MeshTree& component_tree(std::uint32_t component, FreshTrees& fresh);
   // The point of the nearest closed obstacle component to `p`, if the scene has one.
   bool nearest_obstacle_point(const Vec3& p, Vec3& out);
+  // The tree over obstacle triangles `tris` (global ids, ascending), kept for the run like a
+  // component's: the same list as a component tree already built (one obstacle component) is
+  // that tree.
+  const MeshTree& obstacle_tree(const std::vector<std::uint32_t>& tris);
 
  private:
   const SceneTopology& topo_;
   const SceneMeasures& measures_;
   std::map<std::uint32_t, std::unique_ptr<MeshTree>> obstacle_trees_;
+  std::vector<std::unique_ptr<MeshTree>> obstacle_lists_;  // obstacle_tree's of other lists
 };
 
 // A vertex of one component near another: its closest point there, that face's oriented normal,
