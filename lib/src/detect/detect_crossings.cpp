@@ -70,15 +70,9 @@ int orient_exact(const std::vector<Vec3>& points, std::uint32_t a, std::uint32_t
   return static_cast<int>(CGAL::orientation(p(a), p(b), p(c), p(d)));
 }
 
-// What the pruning test needs of one triangle alone: found once per triangle in detection (a flat
-// sheet's triangle meets a dozen others), per pair elsewhere.
-struct TriPlane {
-  std::int8_t axis;       // the corners share this coordinate bit for bit (the lowest such), or -1
-  std::int8_t axis_turn;  // AxisPlane's turn when axis >= 0
-  std::int8_t drop;       // the dominant axis of the rounded normal: coplanar tests project along it
-  std::int8_t turn;       // orient_2d of the corners along drop (0: degenerate there)
-};
-
+// What the pruning test needs of one triangle alone (TriPlane): found once per triangle in
+// detection (a flat sheet's triangle meets a dozen others) and for the retested triangles of an
+// update, once per run for the skipped meshes when their caller keeps them, per pair elsewhere.
 TriPlane tri_plane(const std::vector<Vec3>& P, const std::array<std::uint32_t, 3>& tri) {
   const Vec3 &p0 = P[tri[0]], &p1 = P[tri[1]], &p2 = P[tri[2]];
   int axis = -1;
@@ -255,10 +249,21 @@ bool surely_apart_at(const std::vector<Vec3>& P, const std::array<std::uint32_t,
 
 }  // namespace
 
+TriPlane triangle_plane(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& tri) {
+  return tri_plane(points, tri);
+}
+
 bool triangles_surely_apart(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& a,
                             const std::array<std::uint32_t, 3>& b) {
   PairSides sides;
   return surely_apart_at(points, a, b, tri_plane(points, a), tri_plane(points, b), sides);
+}
+
+bool triangles_surely_apart(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& a,
+                            const std::array<std::uint32_t, 3>& b, const TriPlane& plane_a,
+                            const TriPlane& plane_b) {
+  PairSides sides;
+  return surely_apart_at(points, a, b, plane_a, plane_b, sides);
 }
 
 std::uint32_t CrossingSet::find(std::uint32_t edge, std::uint32_t face) const {
@@ -347,7 +352,8 @@ void for_each_candidate(const SceneTopology& topo, const DetectSettings& setting
     }
   });
   auto plane_of = [&](std::uint32_t t) {
-    return own_tree(topo.tri_mesh[t]) ? planes[t] : tri_plane(topo.points, topo.tris[t]);
+    if (own_tree(topo.tri_mesh[t])) return planes[t];
+    return settings.skipped_planes ? (*settings.skipped_planes)[t] : tri_plane(topo.points, topo.tris[t]);
   };
   // Pairs inside a mesh that share one vertex: apart without a test around a flat fan.
   std::vector<std::uint8_t> fan;
@@ -550,7 +556,10 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
       for (std::size_t i = begin; i < end; ++i) planes[retest[i]] = tri_plane(topo.points, tris[retest[i]]);
     });
     auto plane_of = [&](std::uint32_t t) {
-      return affected[t] ? planes[t] : tri_plane(topo.points, tris[t]);
+      if (affected[t]) return planes[t];
+      if (settings.skipped_planes && settings.skipped_bvh && skipped(topo.tri_mesh[t]))
+        return (*settings.skipped_planes)[t];
+      return tri_plane(topo.points, tris[t]);
     };
     std::vector<const TriangleBvh*> others;
     for (std::size_t m = 0; m < meshes; ++m)

@@ -29,6 +29,16 @@ struct CrossingSet {
   std::uint32_t find(std::uint32_t edge, std::uint32_t face) const;
 };
 
+// What the pruning test (triangles_surely_apart) needs of one triangle alone: found once per
+// triangle by a caller that meets a triangle in many pairs.
+struct TriPlane {
+  std::int8_t axis;       // the corners share this coordinate bit for bit (the lowest such), or -1
+  std::int8_t axis_turn;  // AxisPlane's turn when axis >= 0
+  std::int8_t drop;       // the dominant axis of the rounded normal: coplanar tests project along it
+  std::int8_t turn;       // orient_2d of the corners along drop (0: degenerate there)
+};
+TriPlane triangle_plane(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& tri);
+
 struct DetectSettings {
   int threads = 0;
   // Pairs of triangles that both belong to meshes flagged here are not tested (obstacles that
@@ -37,6 +47,9 @@ struct DetectSettings {
   // Optional: a hierarchy over exactly the triangles of the skip_among meshes at their current
   // positions (they never move, so it is built once and reused every iteration).
   const TriangleBvh* skipped_bvh = nullptr;
+  // Optional, with skipped_bvh: per triangle of the scene, its TriPlane where the triangle is one
+  // of the skip_among meshes' (at the same positions; other entries are not read).
+  const std::vector<TriPlane>* skipped_planes = nullptr;
   // Whether pairs of triangles of the same mesh are tested (self-intersections).
   bool self_pairs = true;
 };
@@ -54,6 +67,10 @@ bool edge_crosses_triangle(const std::vector<Vec3>& points, std::uint32_t p, std
 // would otherwise do all the work.
 bool triangles_surely_apart(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& a,
                             const std::array<std::uint32_t, 3>& b);
+// The same with the triangles' planes known (triangle_plane of a and b).
+bool triangles_surely_apart(const std::vector<Vec3>& points, const std::array<std::uint32_t, 3>& a,
+                            const std::array<std::uint32_t, 3>& b, const TriPlane& plane_a,
+                            const TriPlane& plane_b);
 
 // The crossing point constructed in double (within the segment; steering only).
 Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, const Vec3& c);

@@ -152,13 +152,21 @@ std::vector<std::vector<std::uint8_t>> buried_faces(const SceneTopology& topolog
   TriangleBvh bvh(topology, all);
   bvh.mark_flat_patches(topology);
   const std::vector<TriangleBvh::Part> parts = bvh.split(bvh, true, kParts);
+  // Each triangle's plane for the pruning test, found once (a triangle is in a dozen pairs).
+  const auto& tris = topology.detect_tris();  // shared positions are one point (DESIGN §2)
+  std::vector<TriPlane> planes(topology.tris.size());
+  run_parallel(threads, n, 1024, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) planes[all[i]] = triangle_plane(topology.points, tris[all[i]]);
+  });
   std::vector<std::vector<std::uint32_t>> found(parts.size());
   run_parallel(threads, parts.size(), 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
       bvh.each_pair_in(bvh, parts[k], true, [&](std::uint32_t t, std::uint32_t u) {
-        const auto& a = topology.detect_tris()[t];  // shared positions are one point (DESIGN §2)
-        const auto& b = topology.detect_tris()[u];
-        if (shared_corners(a, b) >= 2 || triangles_surely_apart(topology.points, a, b)) return;
+        const auto& a = tris[t];
+        const auto& b = tris[u];
+        if (shared_corners(a, b) >= 2 ||
+            triangles_surely_apart(topology.points, a, b, planes[t], planes[u]))
+          return;
         if (!pair_crosses(topology.points, a, b)) return;
         found[k].push_back(t);
         found[k].push_back(u);

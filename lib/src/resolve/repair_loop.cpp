@@ -80,6 +80,13 @@ class RepairLoop {
     diagonal_ = input_diagonals();
     obstacle_bvh_ = std::make_unique<TriangleBvh>(topo_, detect_.skip_among);
     detect_.skipped_bvh = obstacle_bvh_.get();
+    // Their triangles' planes for the pruning test, found once too: a triangle of the body near
+    // the garment is in pairs of every update.
+    obstacle_planes_.resize(topo_.tris.size());
+    for (std::uint32_t t = 0; t < topo_.tris.size(); ++t)
+      if (detect_.skip_among[topo_.tri_mesh[t]])
+        obstacle_planes_[t] = triangle_plane(topo_.points, topo_.detect_tris()[t]);
+    detect_.skipped_planes = &obstacle_planes_;
   }
 
   FixResult run(const FixProgress& progress) {
@@ -476,6 +483,7 @@ class RepairLoop {
   DetectSettings detect_;
   RegionSettings region_settings_;
   std::unique_ptr<TriangleBvh> obstacle_bvh_;  // the obstacles never move: built once
+  std::vector<TriPlane> obstacle_planes_;       // per triangle, the obstacles' (detect_)
   SurfaceTrees trees_;
   MeasuredMoves measured_;
   Scratch scratch_;
