@@ -172,10 +172,7 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   std::vector<Mesh> file_meshes = load_all(o, &file_of);
   RoleSplit split = split_by_name(file_meshes, read_pins(o, file_meshes, file_of), name_patterns(o));
   run.meshes = split.meshes;
-  for (const auto& m : run.meshes) {
-    run.infos.push_back(describe_mesh(m));
-    run.input.push_back(m.positions);
-  }
+  for (const auto& m : run.meshes) run.input.push_back(m.positions);
   run.timings.load = ms_since(start);
 
   FixOptions& options = run.options;
@@ -195,6 +192,7 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
     if (auto r = output_rounding(out)) rounding = r;
   const auto resolve_start = std::chrono::steady_clock::now();
   run.result = fix_meshes(run.meshes, options, split.pins, rounding, progress);
+  run.infos = run.result.inputs;  // described from the repair's topology of the input
   split.meshes = run.meshes;
   merge_positions(split, file_meshes);
   run.timings.detect = run.result.detect_ms;

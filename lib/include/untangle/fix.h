@@ -9,6 +9,7 @@
 
 #include "untangle/intersections.h"
 #include "untangle/mesh.h"
+#include "untangle/mesh_info.h"
 
 namespace untangle {
 
@@ -211,6 +212,9 @@ struct FixResult {
   // clean and was worse than the input (more crossings of a kind, more inside vertices, or a
   // vertex moved further than max_written_move): the input's positions were returned instead.
   bool reverted = false;
+  // describe_mesh of each mesh as given, in input order, from the repair's own topology of the
+  // input (the same figures): a caller that reports them need not build that again.
+  std::vector<MeshInfo> inputs;
 };
 
 // Per mesh, per input vertex: 1 = pinned (never moves). Empty = nothing pinned.

@@ -160,7 +160,8 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     if (progress && !progress(record)) cancelled = true;
     return !cancelled;
   };
-  FixResult result = run_repair(work, options, work_pins, round, watch, toward);
+  std::vector<MeshInfo> described;  // the input's, by the first attempt (canonical order)
+  FixResult result = run_repair(work, options, work_pins, round, watch, toward, &described);
   result.clearance = options.clearance;
   FixOptions retry = options;
   const auto illegal = [](const FixResult& r) {
@@ -221,6 +222,7 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     meshes[m].positions = std::move(positions[m]);
   }
   if (!cancelled) judge_as_check(meshes, input, options, result);
+  result.inputs = in_input_order(scene, described);
   return result;
 }
 

@@ -27,6 +27,7 @@
 #include "resolve/relax_shape.h"
 #include "resolve/scene_measures.h"
 #include "resolve/surface_queries.h"
+#include "topology/describe_mesh.h"
 #include "topology/scene_topology.h"
 
 namespace untangle {
@@ -50,7 +51,7 @@ bool touches_obstacle(const SceneTopology& topo, const SceneMeasures& measures,
 class RepairLoop {
  public:
   RepairLoop(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
-             const Rounding& round, const std::vector<Mesh>* rest)
+             const Rounding& round, const std::vector<Mesh>* rest, std::vector<MeshInfo>* described)
       : meshes_(meshes),
         options_(options),
         round_(round),
@@ -71,6 +72,9 @@ class RepairLoop {
     region_settings_.winding = &winding_;
     moved_.assign(topo_.points.size(), 0);
     start_points_ = topo_.points;
+    if (described != nullptr)
+      for (std::uint32_t m = 0; m < meshes_.size(); ++m)
+        described->push_back(describe_mesh_in(topo_, m, meshes_[m]));
     if (rest != nullptr) {
       rest_points_ = start_points_;
       for (std::uint32_t m = 0; m < meshes_.size(); ++m)
@@ -504,8 +508,8 @@ class RepairLoop {
 
 FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                      const Rounding& round, const FixProgress& progress,
-                     const std::vector<Mesh>* rest) {
-  return RepairLoop(meshes, options, pins, round, rest).run(progress);
+                     const std::vector<Mesh>* rest, std::vector<MeshInfo>* described) {
+  return RepairLoop(meshes, options, pins, round, rest, described).run(progress);
 }
 
 }  // namespace untangle

@@ -14,9 +14,11 @@ namespace untangle {
 // `meshes`, as the loop detected it; nothing is detected again). `rest` (optional; the same
 // meshes, vertex for vertex) is the shape the relaxation moves toward, where the run's input is
 // not the asset's shape (the continuation's steps); quality is measured against the run's input.
+// `described` (optional) receives describe_mesh_in of each mesh as given, from the loop's topology.
 FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                      const Rounding& round, const FixProgress& progress,
-                     const std::vector<Mesh>* rest = nullptr);
+                     const std::vector<Mesh>* rest = nullptr,
+                     std::vector<MeshInfo>* described = nullptr);
 
 // fix_meshes (fix.h) whose relaxation moves toward `rest` (per mesh, per input vertex; an
 // obstacle's entry its positions now) in place of the input's shape: the simulation's correction,
