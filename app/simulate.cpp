@@ -70,7 +70,7 @@ const std::pair<const char*, double ClothOptions::*> kClothNumbers[] = {
     {"bend", &ClothOptions::bend},               {"damping", &ClothOptions::damping},
     {"density", &ClothOptions::density},         {"friction", &ClothOptions::friction},
     {"restitution", &ClothOptions::restitution}, {"max_speed", &ClothOptions::max_speed},
-    {"contact_reach", &ClothOptions::contact_reach}};
+    {"contact_reach", &ClothOptions::contact_reach}, {"thickness", &ClothOptions::thickness}};
 const std::pair<const char*, int ClothOptions::*> kClothCounts[] = {
     {"substeps", &ClothOptions::substeps}, {"solver_iterations", &ClothOptions::solver_iterations}};
 
@@ -353,7 +353,8 @@ int run_simulate(const SimulateOptions& o) {
   // 2: options.contacts and options.contact_reach replace hold_contacts and release_distance.
   // 3: options.relax_sweeps.
   // 4: options.self_contacts and each frame's self_planes.
-  report["schema_version"] = 4;
+  // 5: options.thickness.
+  report["schema_version"] = 5;
   report["command"] = "simulate";
   report["untangle_version"] = UNTANGLE_VERSION;
   if (example)
@@ -373,6 +374,7 @@ int run_simulate(const SimulateOptions& o) {
                        {"contacts", c.contacts},
                        {"self_contacts", c.self_contacts},
                        {"contact_reach", c.contact_reach},
+                       {"thickness", c.thickness},
                        {"clearance", c.fix.clearance},
                        {"relax_sweeps", c.fix.relax_sweeps}};
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();

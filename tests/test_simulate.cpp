@@ -578,7 +578,7 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
     "meshes": [{"path": "cloth.obj"}, {"path": "box.obj", "role": "obstacle"}],
     "frames": 2,
     "relax_sweeps": 7,
-    "cloth": {"contacts": false, "self_contacts": false, "contact_reach": 2.5}
+    "cloth": {"contacts": false, "self_contacts": false, "contact_reach": 2.5, "thickness": 0.8}
   })");
   const std::string report = dir.file("planes_report.json");
   const testing::RunResult planes =
@@ -586,11 +586,12 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
                        testing::quote(dir.file("o3")) + " -q --report " + testing::quote(report));
   ASSERT_EQ(planes.exit_code, 0) << planes.err;
   const nlohmann::json j = nlohmann::json::parse(testing::read_text(report));
-  EXPECT_EQ(j["schema_version"], 4);
+  EXPECT_EQ(j["schema_version"], 5);
   EXPECT_EQ(j["options"]["contacts"], false);
   EXPECT_EQ(j["options"]["self_contacts"], false);
   EXPECT_EQ(j["frames"][0]["self_planes"], 0);
   EXPECT_EQ(j["options"]["contact_reach"], 2.5);
+  EXPECT_EQ(j["options"]["thickness"], 0.8);
   EXPECT_EQ(j["options"]["relax_sweeps"], 7);
   for (const char* bad : {"-1", "2.5", "\"3\"", "1001"}) {
     testing::write_text(dir.file("sweeps.json"),
@@ -602,13 +603,18 @@ TEST(SimulateCli, SceneFileWithPinsAndSchedule) {
     EXPECT_EQ(sweeps.exit_code, 3) << bad << sweeps.err;
     EXPECT_NE(sweeps.err.find("relax_sweeps"), std::string::npos) << sweeps.err;
   }
-  testing::write_text(dir.file("reach.json"),
-                      R"({"meshes": [{"path": "cloth.obj"}], "cloth": {"contact_reach": -1}})");
-  const testing::RunResult reach =
-      testing::run_cli("simulate " + testing::quote(dir.file("reach.json")) + " --output-dir " +
-                       testing::quote(dir.file("o4")));
-  EXPECT_EQ(reach.exit_code, 3) << reach.err;
-  EXPECT_NE(reach.err.find("contact_reach"), std::string::npos) << reach.err;
+  // A bad cloth value is refused by name; a thickness beyond the reach would make planes only
+  // for layers already too near.
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"contact_reach", "-1"},
+                                   {"thickness", "1.5"}}) {
+    testing::write_text(dir.file("cloth.json"), R"({"meshes": [{"path": "cloth.obj"}], "cloth": {")" +
+                                                    key + "\": " + value + "}}");
+    const testing::RunResult refused =
+        testing::run_cli("simulate " + testing::quote(dir.file("cloth.json")) + " --output-dir " +
+                         testing::quote(dir.file("o4")));
+    EXPECT_EQ(refused.exit_code, 3) << refused.err;
+    EXPECT_NE(refused.err.find(key), std::string::npos) << refused.err;
+  }
 }
 
 }  // namespace

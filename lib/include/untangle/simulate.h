@@ -43,14 +43,21 @@ struct ClothOptions {
   // Contact inside the solve: at the start of every step, a particle within contact_reach mean
   // edge lengths (of the cloth at rest), plus the clearance, of an obstacle or of another cloth
   // mesh gets the tangent plane at its closest point there (an obstacle's moved out by the
-  // repair's clearance; between cloth meshes each side may close half the gap beyond it), and a
-  // cloth face within that reach of a convex obstacle vertex (not a tip) gets one along the
-  // vertex's normal; each is kept on its outer side after every global solve of that step. Planes
-  // are made fresh every step, so they follow the cloth as it wraps round; the correction then
-  // only has what slips between them (an edge over a spike's tip). Off: every step's push into
-  // what the cloth lies on is left to the correction.
+  // repair's clearance; between cloth meshes each side may close half the gap beyond the
+  // thickness), and a cloth face within that reach of a convex obstacle vertex (not a tip) gets
+  // one along the vertex's normal; each is kept on its outer side after every global solve of
+  // that step. Planes are made fresh every step, so they follow the cloth as it wraps round; the
+  // correction then only has what slips between them (an edge over a spike's tip). Off: every
+  // step's push into what the cloth lies on is left to the correction.
   bool contacts = true;
   double contact_reach = 1.0;
+  // Two cloth layers in contact (two cloth meshes, or far parts of one with self_contacts) are
+  // kept this many mean edge lengths apart by their planes (the repair's clearance if that is
+  // more), each side closing half the gap beyond it: the cloth's thickness for contact. At most
+  // contact_reach. On the cow, 0.5 in place of the clearance (0.05) left the corrections of the
+  // stacked sheets half the crossings (docs/PERFORMANCE.md): a correction that lifts the lower
+  // layer by less than the gap no longer pushes it through the one above.
+  double thickness = 0.5;
   // Self-contact inside the solve (with `contacts`): a particle within that reach of a triangle
   // of its own mesh that is far from it on the cloth (no corner within 1.5 times the reach of it
   // along the cloth's edges at rest) gets a plane as between two cloth meshes, so a sheet's folds

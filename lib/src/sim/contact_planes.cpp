@@ -195,7 +195,7 @@ void ContactPlanes::find_near(const SceneTopology& cloth, double radius) {
 }
 
 void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, double reach,
-                         double clearance, bool self, ContactSet& out) {
+                         double clearance, double gap, bool self, ContactSet& out) {
   const std::size_t n = x.size();
   const SceneTopology& cloth = model.topo;
   const std::size_t meshes = cloth_trees_.size();
@@ -264,7 +264,7 @@ void ContactPlanes::make(const ClothModel& model, const std::vector<Vec3>& x, do
     const double d = norm(off);
     if (!(d > 0.0) || d > reach) return false;
     const Vec3 normal = scale(off, 1.0 / d);
-    const double offset = both_move ? (d > clearance ? 0.5 * (d + clearance) : d)
+    const double offset = both_move ? (d > gap ? 0.5 * (d + gap) : d)
                                     : std::min(clearance, d);
     out.planes.push_back({add(q, scale(normal, offset)), normal});
     return true;

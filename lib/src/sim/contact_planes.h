@@ -32,19 +32,20 @@ class ContactPlanes {
   // The planes of this step, for particles at `x`, within `reach` (scene units) of a surface:
   //  - an obstacle's plane lies `clearance` out from the closest point (never farther than the
   //    particle is now), so the particle may come up to the clearance but not nearer;
-  //  - another cloth mesh moves too, so each side may close half of the gap beyond the clearance:
-  //    the plane lies (d + clearance) / 2 out for a particle d away (d, if d is under the
-  //    clearance), and the two sides' planes keep them apart;
+  //  - another cloth mesh moves too, so each side may close half of the gap beyond `gap` (the
+  //    cloth's thickness, at least the clearance): the plane lies (d + gap) / 2 out for a particle
+  //    d away (d, if d is under the gap), and the two sides' planes keep them apart;
   //  - a convex obstacle vertex within reach of a cloth face gives that face's closest point a
   //    plane `clearance` out from the vertex along the vertex's outward normal (a face plane: a
-  //    coarse ball's vertices poke out between the cloth's particles). A tip (an angle defect
-  //    beyond about 57 degrees: a spike's) gets none; the correction handles it.
+  //    coarse ball's vertices poke out between the cloth's particles; integrate_step spreads the
+  //    lift over rings round the face's corners). A tip (an angle defect beyond about 57
+  //    degrees: a spike's, the cow's horns) gets none; the correction handles it.
   //  - with `self`, a particle within reach of a triangle of its own mesh that is far from it on
   //    the cloth (no corner within 1.5 times the reach of it along the edges of the rest shape,
   //    model.topo.points) gets a plane as against another cloth mesh, from the closest such
   //    point: a fold of the sheet onto itself is held apart in the solve. A flat sheet gets none.
   void make(const ClothModel& model, const std::vector<Vec3>& x, double reach, double clearance,
-            bool self, ContactSet& out);
+            double gap, bool self, ContactSet& out);
   // How many of the planes of the last make are self-contact planes.
   std::size_t self_planes() const { return self_planes_; }
 

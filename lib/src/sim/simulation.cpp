@@ -53,6 +53,8 @@ void check_options(const ClothOptions& o) {
   if (!(o.max_speed > 0.0) || !std::isfinite(o.max_speed)) bad("max_speed must be positive");
   if (!(o.contact_reach > 0.0) || !std::isfinite(o.contact_reach))
     bad("contact_reach must be positive");
+  if (!(o.thickness >= 0.0 && o.thickness <= o.contact_reach))
+    bad("thickness must be from 0 to contact_reach");
   for (double g : o.gravity)
     if (!std::isfinite(g)) bad("gravity must be finite");
 }
@@ -132,6 +134,7 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
       if (obstacles_moved) s.planes->update_obstacles(s.scene.meshes);
       const double clearance = o.fix.clearance * s.model.mean_edge;
       s.planes->make(s.model, s.x, clearance + o.contact_reach * s.model.mean_edge, clearance,
+                     std::max(clearance, o.thickness * s.model.mean_edge),
                      o.self_contacts, s.contacts);
       record.self_planes += s.planes->self_planes();
     }
