@@ -125,6 +125,7 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
       const std::vector<Vec3>& rest = s.obstacle_rest[schedule.mesh];
       for (std::size_t i = 0; i < rest.size(); ++i)
         mesh.positions[i] = add(schedule.centre, scale(sub(rest[i], schedule.centre), factor));
+      s.relax_toward[schedule.mesh] = mesh.positions;
       obstacles_moved = true;
     }
     const auto t0 = Clock::now();
@@ -155,10 +156,6 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
         record.crossings_after = 0;
         record.corrected = true;
       } else {
-        if (obstacles_moved)
-          for (std::size_t m = 0; m < s.scene.meshes.size(); ++m)
-            if (s.scene.meshes[m].role == Role::kObstacle)
-              s.relax_toward[m] = s.scene.meshes[m].positions;
         const FixResult fixed =
             fix_meshes_toward(s.scene.meshes, &s.relax_toward, o.fix, s.scene.pins, round, {});
         record.crossings_before += fixed.before.crossings;
