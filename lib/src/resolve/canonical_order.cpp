@@ -61,14 +61,35 @@ CanonicalMesh canonical(const Mesh& input) {
     std::uint64_t first_two;
     std::uint32_t third, index;
   };
-  std::vector<TriangleKey> triangle_keys(nt);
-  for (std::uint32_t t = 0; t < nt; ++t)
-    triangle_keys[t] = {std::uint64_t(rotated[t][0]) << 32 | rotated[t][1], rotated[t][2], t};
-  std::sort(triangle_keys.begin(), triangle_keys.end(), [](const TriangleKey& a, const TriangleKey& b) {
+  auto less = [](const TriangleKey& a, const TriangleKey& b) {
     if (a.first_two != b.first_two) return a.first_two < b.first_two;
     if (a.third != b.third) return a.third < b.third;
     return a.index < b.index;
-  });
+  };
+  // The keys are distinct (the index breaks ties), so any sort gives this one order. Bucketed by
+  // the first corner (a counting pass, indices ascending in each bucket), then each bucket of
+  // about two triangles sorted alone: the comparison sort of the whole took 2.2% of `check` on
+  // the shipped MakeHuman pair, the buckets' sorts take 0.3% (issue 24). A first corner out of
+  // range sorts the whole at once.
+  std::vector<TriangleKey> triangle_keys(nt);
+  bool in_range = true;
+  for (std::uint32_t t = 0; t < nt; ++t) in_range = in_range && rotated[t][0] < nv;
+  if (in_range) {
+    std::vector<std::uint32_t> bucket(nv + 1, 0);
+    for (std::uint32_t t = 0; t < nt; ++t) ++bucket[rotated[t][0] + 1];
+    for (std::size_t v = 0; v < nv; ++v) bucket[v + 1] += bucket[v];
+    std::vector<std::uint32_t> fill(bucket.begin(), bucket.end() - 1);
+    for (std::uint32_t t = 0; t < nt; ++t)
+      triangle_keys[fill[rotated[t][0]]++] = {std::uint64_t(rotated[t][0]) << 32 | rotated[t][1],
+                                              rotated[t][2], t};
+    for (std::size_t v = 0; v < nv; ++v)
+      if (bucket[v + 1] - bucket[v] > 1)
+        std::sort(triangle_keys.begin() + bucket[v], triangle_keys.begin() + bucket[v + 1], less);
+  } else {
+    for (std::uint32_t t = 0; t < nt; ++t)
+      triangle_keys[t] = {std::uint64_t(rotated[t][0]) << 32 | rotated[t][1], rotated[t][2], t};
+    std::sort(triangle_keys.begin(), triangle_keys.end(), less);
+  }
   std::vector<std::uint32_t>& tri_order = out.triangle_order;
   tri_order.resize(nt);
   for (std::uint32_t t = 0; t < nt; ++t) tri_order[t] = triangle_keys[t].index;
