@@ -50,14 +50,18 @@ class WindingNumber {
   struct Pending {
     std::uint32_t begin, end, id;
   };
-  // Splits node `id` over order[begin, end) (indices into `items`, whose centroids are packed in
-  // `centroids`) and, below `depth` levels, its subtree: ranges and children only, the sums are
-  // taken afterwards. The subtrees left at `depth` are appended to `pending` (depth < 0: none
-  // left). Node ids are those of a pre-order numbering (node_count), so the parts can be split in
-  // any order.
-  void split(const std::vector<Item>& items, const std::vector<Vec3>& centroids,
-             std::vector<std::uint32_t>& order, std::uint32_t begin, std::uint32_t end,
-             std::uint32_t id, int depth, std::vector<Pending>& pending);
+  // An entry of the order being split: an index into the items with its centroid beside it, so
+  // that the splits read and move the keys in place rather than through the index.
+  struct Keyed {
+    Vec3 centroid{};
+    std::uint32_t item = 0;
+  };
+  // Splits node `id` over order[begin, end) and, below `depth` levels, its subtree: ranges and
+  // children only, the sums are taken afterwards. The subtrees left at `depth` are appended to
+  // `pending` (depth < 0: none left). Node ids are those of a pre-order numbering (node_count), so
+  // the parts can be split in any order.
+  void split(const std::vector<Item>& items, std::vector<Keyed>& order, std::uint32_t begin,
+             std::uint32_t end, std::uint32_t id, int depth, std::vector<Pending>& pending);
 
   std::vector<std::array<Vec3, 3>> tri_;
   std::vector<Node> nodes_;
