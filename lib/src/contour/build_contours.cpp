@@ -539,13 +539,21 @@ std::vector<TracedContour> build_contours(const SceneTopology& topo, const Cross
   // scratch), written into its own slot.
   std::vector<std::array<std::uint32_t, 2>> jobs;  // (contour, track)
   for (std::uint32_t c = 0; c < out.size(); ++c) jobs.push_back({c, 0}), jobs.push_back({c, 1});
+  if (threads == 1 || jobs.size() < 2) {
+    // On this thread alone: one scratch, without the thread-local storage, whose first use loads
+    // and starts TBB's allocator (2.4% of a one-thread `check` of the shipped MakeHuman pair,
+    // issue 24).
+    SeparationScratch scratch;
+    for (std::size_t j = 0; j < jobs.size(); ++j)
+      classify_track(topo, set, out[jobs[j][0]], jobs[j][1], separation, scratch);
+    return out;
+  }
   tbb::enumerable_thread_specific<SeparationScratch> scratches;
-  auto classify = [&](std::size_t begin, std::size_t end) {
+  run_parallel(threads, jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
     SeparationScratch& scratch = scratches.local();
     for (std::size_t j = begin; j < end; ++j)
       classify_track(topo, set, out[jobs[j][0]], jobs[j][1], separation, scratch);
-  };
-  run_parallel(jobs.size() < 2 ? 1 : threads, jobs.size(), 1, classify);
+  });
   return out;
 }
 
