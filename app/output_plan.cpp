@@ -139,7 +139,11 @@ std::vector<PlannedFile> files_written(const CommonOptions& o,
 void check_written_files(const CommonOptions& o, const std::vector<std::string>& outputs) {
   if (o.report == "-" && o.contours == "-")
     refuse("--report - and --contours - cannot both be stdout; write one of them to a file");
-  check_planned(files_read(o), files_written(o, outputs), o.overwrite);
+  // Nothing written (a `check` without --report or --contours files): nothing to compare the
+  // files read against, and finding an OBJ's side files reads it through once more.
+  const std::vector<PlannedFile> written = files_written(o, outputs);
+  if (written.empty()) return;
+  check_planned(files_read(o), written, o.overwrite);
 }
 
 void check_planned(const std::vector<PlannedFile>& read, const std::vector<PlannedFile>& written,
