@@ -38,6 +38,8 @@ void prefer_huge_pages() {
   const auto after = reinterpret_cast<std::uintptr_t>(sbrk(0));
   const std::uintptr_t lo = (before + kHuge - 1) & ~(kHuge - 1), hi = after & ~(kHuge - 1);
   if (probe != nullptr && hi > lo) madvise(reinterpret_cast<void*>(lo), hi - lo, MADV_HUGEPAGE);
+  // Where the probe began, taken before it is freed (a freed pointer's value is not to be used).
+  const auto first = reinterpret_cast<std::uintptr_t>(probe);
   std::free(probe);
   // The heap below `lo` (up to 2 MiB from where the probe began) can only have ordinary pages, and
   // the first allocations, the meshes as read, would land there: a fault per 4 KiB. One block
@@ -49,8 +51,7 @@ void prefer_huge_pages() {
   // that huge page: it is dropped, to be faulted in again whole. Together they took a `check` of
   // the shipped MakeHuman pair from 580 to 1,000 faults (by where the heap happened to start) to
   // about 270 (issue 24).
-  const auto first = reinterpret_cast<std::uintptr_t>(probe);
-  if (probe != nullptr && hi > lo && first < lo) {
+  if (first != 0 && hi > lo && first < lo) {
     madvise(reinterpret_cast<void*>(lo), kHuge, MADV_DONTNEED);
     below_huge_pages = std::malloc(lo - first);
   }
