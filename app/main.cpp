@@ -262,6 +262,19 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
                   c.clean ? "clean" : "unresolved", c.crossings, c.inside_vertices, c.max_stretch,
                   c.kept ? " (kept)" : " (not kept)");
     }
+    if (result.layering.ran) {
+      const untangle::LayeringRecord& l = result.layering;
+      const std::vector<std::string> labels = labels_of(run.written);
+      std::printf("layering (%zu layers, innermost first:", l.layers.size());
+      for (std::size_t k = 0; k < l.layers.size(); ++k) {
+        const untangle::LayerRecord& layer = l.layers[k];
+        std::printf("%s %s piece %u", k == 0 ? "" : ",",
+                    layer.mesh < labels.size() ? labels[layer.mesh].c_str() : "?", layer.component);
+      }
+      std::printf("): %s, %zu crossings, %zu inside, stretch %.3g%s\n",
+                  l.clean ? "clean" : "unresolved", l.crossings, l.inside_vertices, l.max_stretch,
+                  l.kept ? " (kept)" : " (not kept)");
+    }
     for (std::size_t k = 0; k < outputs.size(); ++k) std::printf("wrote %s\n", outputs[k].c_str());
     print_contacts(verified.counts);
     if (result.obstacle_crossing_pairs > 0) {
@@ -419,6 +432,11 @@ int main(int argc, char** argv) {
                 "A run left unresolved or beyond the bounds with vertices inside a closed obstacle "
                 "runs once more: the obstacles shrunk inward, then grown back in steps, repaired "
                 "and relaxed after each (slow: up to 32 repairs)");
+  fix->add_flag_callback("--no-layering", [&fix_options] { fix_options.layering = false; },
+                         "Do not lay garments worn together one at a time when the run is left "
+                         "unresolved or beyond the bounds (each alone on the obstacles, then each "
+                         "over the ones nearer them, those grown back from the obstacles' surface "
+                         "in steps)");
   fix->add_option("--max-stretch", fix_options.bounds.max_stretch,
                   "Quality bound: no edge of a movable mesh longer or shorter than X times its input "
                   "length" + default_is(fix_options.bounds.max_stretch))

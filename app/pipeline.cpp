@@ -185,6 +185,7 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   options.relax_sweeps = o.relax_sweeps;
   options.retries = o.retries;
   options.continuation = o.continuation;
+  options.layering = o.layering;
   options.bounds = o.bounds;
   options.threads = o.threads;
   std::function<Vec3(const Vec3&)> rounding;

@@ -44,6 +44,7 @@ struct CommonOptions {
   int relax_sweeps = FixOptions{}.relax_sweeps;
   int retries = FixOptions{}.retries;
   bool continuation = FixOptions{}.continuation;
+  bool layering = FixOptions{}.layering;
   QualityBounds bounds;
   bool overwrite = false;
   bool allow_loss = false;  // fix --allow-loss: write although the output drops what export_loss names

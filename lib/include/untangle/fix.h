@@ -87,7 +87,16 @@ struct FixOptions {
   // ratio when both are beyond the bounds. Region method only (the paper method is the paper's
   // DRN alone).
   bool continuation = false;
-  // What `distorted` means to the continuation's trigger and choice (the CLI passes its
+  // Garments worn together (DESIGN §5, "Layers"): when the kept attempt is unresolved, or clean
+  // but beyond `bounds`, and the scene has two or more movable meshes and an obstacle, the repair
+  // runs once more from the input, one garment at a time: each alone on the obstacles; then, from
+  // the garment nearest the obstacles (median distance of its vertices) outward, each laid over
+  // the ones inside it, which stand as obstacles flattened onto the obstacles' surface and grow
+  // back to their places in steps (the continuation's steps), the garment repaired and relaxed
+  // toward its input shape after each. Kept as the continuation is (clean and better). Region
+  // method only.
+  bool layering = true;
+  // What `distorted` means to the continuation's and the layering's trigger and choice (the CLI passes its
   // --max-stretch, --max-flips and --max-move).
   QualityBounds bounds;
   int threads = 0;
@@ -100,7 +109,8 @@ struct IterationRecord {
   double contour_length = 0.0;
   double elapsed_ms = 0.0;  // since the start of fix_meshes
   int stage = 1;  // 2 in the second stage, which starts again from the input; 3 in the third,
-                  // which starts from the best state of the first two
+                  // which starts from the best state of the first two; 4 in the continuation's
+                  // repairs, 5 in the layering's
 };
 
 struct DisplacementStats {
@@ -172,6 +182,29 @@ struct ContinuationRecord {
   std::vector<ContinuationStep> runs;  // the steps in order
 };
 
+// One layer laid over those inside it (FixOptions::layering): an edge-connected piece of a
+// movable mesh (the top and the trousers of one garment file are two layers).
+struct LayerRecord {
+  std::uint32_t mesh = 0;       // input index
+  std::uint32_t component = 0;  // the piece of that mesh, counted from 0 by its lowest vertex
+  double distance = 0.0;        // median distance of its vertices to the obstacles, laid alone
+  // Its steps (empty for the innermost, and for one that crossed none of the garments inside it
+  // once laid alone), as the continuation's: the garments inside it at `shrink` of the way down
+  // to the obstacles' surface.
+  std::vector<ContinuationStep> runs;
+  bool clean = false;  // free of crossings with everything inside it and with itself
+};
+
+// The layering (FixOptions::layering), when it ran.
+struct LayeringRecord {
+  bool ran = false;
+  std::vector<LayerRecord> layers;  // innermost first
+  bool clean = false;               // the whole scene, once every garment is laid
+  std::size_t crossings = 0, inside_vertices = 0;
+  double max_stretch = 1.0;
+  bool kept = false;  // its positions are the result
+};
+
 struct FixResult {
   // No crossing and no movable vertex inside an obstacle on the final positions.
   bool clean = false;
@@ -207,6 +240,7 @@ struct FixResult {
   std::vector<RetryRecord> retries;
   double clearance = 0.0;  // the clearance of the attempt kept
   ContinuationRecord continuation;
+  LayeringRecord layering;
   // The final state, detected as `check` detects it (numbered by its own positions, where the
   // repair numbered by the input's: an exact degeneracy can be decided the other way), was not
   // clean and was worse than the input (more crossings of a kind, more inside vertices, or a

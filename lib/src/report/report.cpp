@@ -30,6 +30,23 @@ Json mesh_entry(const Mesh& mesh, const MeshInfo& info) {
   return j;
 }
 
+// The continuation's steps, or a layer's.
+Json continuation_steps_json(const std::vector<ContinuationStep>& steps) {
+  Json runs = Json::array();
+  for (const ContinuationStep& r : steps) {
+    Json step;
+    step["shrink"] = r.shrink;
+    step["crossings_before"] = r.crossings_before;
+    step["inside_before"] = r.inside_before;
+    step["crossings_after"] = r.crossings_after;
+    step["inside_after"] = r.inside_after;
+    step["iterations"] = r.iterations;
+    step["clean"] = r.clean;
+    runs.push_back(step);
+  }
+  return runs;
+}
+
 Json counts_json(const IntersectionCounts& c) {
   Json j;
   j["crossings"] = c.crossings;
@@ -155,6 +172,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   opts["relax_sweeps"] = options.relax_sweeps;
   opts["retries"] = options.retries;
   opts["continuation"] = options.continuation;
+  opts["layering"] = options.layering;
   opts["max_stretch"] = bounds.max_stretch;
   opts["max_flips"] = bounds.max_flips;
   opts["max_move"] = bounds.max_move;
@@ -187,22 +205,33 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
     e["inside_vertices"] = c.inside_vertices;
     e["max_stretch"] = c.max_stretch;
     e["kept"] = c.kept;
-    Json runs = Json::array();
-    for (const ContinuationStep& r : c.runs) {
-      Json step;
-      step["shrink"] = r.shrink;
-      step["crossings_before"] = r.crossings_before;
-      step["inside_before"] = r.inside_before;
-      step["crossings_after"] = r.crossings_after;
-      step["inside_after"] = r.inside_after;
-      step["iterations"] = r.iterations;
-      step["clean"] = r.clean;
-      runs.push_back(step);
-    }
-    e["runs"] = runs;
+    e["runs"] = continuation_steps_json(c.runs);
     j["continuation"] = e;
   } else {
     j["continuation"] = nullptr;
+  }
+  if (result.layering.ran) {
+    const LayeringRecord& l = result.layering;
+    Json e;
+    Json layers = Json::array();
+    for (const LayerRecord& layer : l.layers) {
+      Json one;
+      one["mesh"] = layer.mesh;
+      one["component"] = layer.component;
+      one["distance"] = layer.distance;
+      one["clean"] = layer.clean;
+      one["runs"] = continuation_steps_json(layer.runs);
+      layers.push_back(one);
+    }
+    e["layers"] = layers;
+    e["clean"] = l.clean;
+    e["crossings"] = l.crossings;
+    e["inside_vertices"] = l.inside_vertices;
+    e["max_stretch"] = l.max_stretch;
+    e["kept"] = l.kept;
+    j["layering"] = e;
+  } else {
+    j["layering"] = nullptr;
   }
   j["before"] = counts_json(result.before);
   j["after"] = counts_json(verified.counts);

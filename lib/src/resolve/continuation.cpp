@@ -160,22 +160,56 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
   }
   if (plan.shrunk_vertices == 0) return plan;
   plan.movable_edge = movable_edge;
-  plan.steps = std::clamp(
-      static_cast<int>(std::ceil(plan.largest_shrink / (kStepEdges * movable_edge))) + 1,
-      kMinSteps, kMaxSteps);
+  plan.steps = continuation_steps(plan.largest_shrink, movable_edge);
   return plan;
+}
+
+int continuation_steps(double largest_shrink, double movable_edge) {
+  return std::clamp(static_cast<int>(std::ceil(largest_shrink / (kStepEdges * movable_edge))) + 1,
+                    kMinSteps, kMaxSteps);
+}
+
+DisplacementStats displacement_against(const std::vector<Mesh>& from,
+                                       const std::vector<Mesh>& meshes) {
+  DisplacementStats stats;
+  double sum = 0.0;
+  const SceneTopology topo = build_topology(from);
+  std::vector<double> mean_edge(meshes.size(), 0.0);
+  std::vector<std::size_t> edges(meshes.size(), 0);
+  for (const auto& e : topo.edges) {
+    const std::uint32_t m = topo.vertex_mesh[e[0]];
+    mean_edge[m] += norm(sub(topo.points[e[0]], topo.points[e[1]]));
+    ++edges[m];
+  }
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
+    if (edges[m] > 0) mean_edge[m] /= static_cast<double>(edges[m]);
+    if (meshes[m].role != Role::kMovable) continue;
+    for (std::size_t i = 0; i < meshes[m].positions.size(); ++i) {
+      if (meshes[m].positions[i] == from[m].positions[i]) continue;
+      const double d = norm(sub(meshes[m].positions[i], from[m].positions[i]));
+      ++stats.moved_vertices;
+      sum += d;
+      if (d > stats.max) {
+        stats.max = d;
+        stats.max_over_mean_edge = mean_edge[m] > 0.0 ? d / mean_edge[m] : 0.0;
+      }
+    }
+  }
+  if (stats.moved_vertices > 0) stats.mean = sum / static_cast<double>(stats.moved_vertices);
+  return stats;
 }
 
 FixResult run_continuation(std::vector<Mesh>& meshes, const ContinuationPlan& plan,
                            const FixOptions& options, const PinMask& pins, const Rounding& round,
-                           const FixProgress& progress, std::vector<ContinuationStep>& runs) {
+                           const FixProgress& progress, std::vector<ContinuationStep>& runs,
+                           int stage) {
   const std::vector<Mesh> rest = meshes;
   FixOptions step = options;
   step.retries = 0;
   bool cancelled = false;
   const FixProgress watch = [&](const IterationRecord& record) {
     IterationRecord r = record;
-    r.stage = 4;
+    r.stage = stage;
     if (progress && !progress(r)) cancelled = true;
     return !cancelled;
   };
@@ -223,7 +257,7 @@ FixResult run_continuation(std::vector<Mesh>& meshes, const ContinuationPlan& pl
                     result.after.crossings, result.after.inside_vertices, result.iterations,
                     result.clean});
     for (IterationRecord r : result.history) {
-      r.stage = 4;
+      r.stage = stage;
       history.push_back(r);
     }
     detect += result.detect_ms;
@@ -263,32 +297,7 @@ FixResult run_continuation(std::vector<Mesh>& meshes, const ContinuationPlan& pl
   result.relax_ms = relax;
   result.quality = measure_quality(rest, meshes);
   // Displacements against the input, over the movable meshes.
-  result.displacement = DisplacementStats{};
-  double sum = 0.0;
-  const SceneTopology topo = build_topology(rest);
-  std::vector<double> mean_edge(meshes.size(), 0.0);
-  std::vector<std::size_t> edges(meshes.size(), 0);
-  for (const auto& e : topo.edges) {
-    const std::uint32_t m = topo.vertex_mesh[e[0]];
-    mean_edge[m] += norm(sub(topo.points[e[0]], topo.points[e[1]]));
-    ++edges[m];
-  }
-  for (std::size_t m = 0; m < meshes.size(); ++m) {
-    if (edges[m] > 0) mean_edge[m] /= static_cast<double>(edges[m]);
-    if (meshes[m].role != Role::kMovable) continue;
-    for (std::size_t i = 0; i < meshes[m].positions.size(); ++i) {
-      if (meshes[m].positions[i] == rest[m].positions[i]) continue;
-      const double d = norm(sub(meshes[m].positions[i], rest[m].positions[i]));
-      ++result.displacement.moved_vertices;
-      sum += d;
-      if (d > result.displacement.max) {
-        result.displacement.max = d;
-        result.displacement.max_over_mean_edge = mean_edge[m] > 0.0 ? d / mean_edge[m] : 0.0;
-      }
-    }
-  }
-  if (result.displacement.moved_vertices > 0)
-    result.displacement.mean = sum / static_cast<double>(result.displacement.moved_vertices);
+  result.displacement = displacement_against(rest, meshes);
   return result;
 }
 

@@ -34,12 +34,22 @@ struct ContinuationPlan {
 ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOptions& options,
                                    const PinMask& pins);
 
+// The steps of a plan whose largest inward move is `largest_shrink`: that move in steps of
+// kStepEdges mean edges `movable_edge` of the movable meshes, between kMinSteps and kMaxSteps.
+int continuation_steps(double largest_shrink, double movable_edge);
+
 // Runs the plan on `meshes` (input positions in, result out; the obstacles end at their input
 // positions bit for bit). The result is the last step's, with `quality` and `displacement`
-// measured against the input and `history` the steps' iterations in order (stage 4).
-// `runs` receives one record per step.
+// measured against the input and `history` the steps' iterations in order (with `stage`: 4 for
+// the continuation, 5 for the layering's). `runs` receives one record per step.
 FixResult run_continuation(std::vector<Mesh>& meshes, const ContinuationPlan& plan,
                            const FixOptions& options, const PinMask& pins, const Rounding& round,
-                           const FixProgress& progress, std::vector<ContinuationStep>& runs);
+                           const FixProgress& progress, std::vector<ContinuationStep>& runs,
+                           int stage = 4);
+
+// Displacement statistics of the movable meshes of `meshes` against `from` (the same meshes at
+// other positions), relative to the mean edge lengths of `from`.
+DisplacementStats displacement_against(const std::vector<Mesh>& from,
+                                       const std::vector<Mesh>& meshes);
 
 }  // namespace untangle

@@ -1,18 +1,18 @@
 // fix_meshes: the repair on the canonical scene (canonical_order.h), mapped back to the order of the
 // meshes and their vertices, retried with a larger clearance when it ends unresolved
-// (FixOptions::retries), and continued when asked (FixOptions::continuation).
+// (FixOptions::retries), continued when asked (FixOptions::continuation), and layered when
+// garments worn together are left unresolved or distorted (FixOptions::layering).
 #include <algorithm>
 
 #include "resolve/canonical_order.h"
 #include "resolve/continuation.h"
+#include "resolve/layering.h"
 #include "resolve/repair_loop.h"
 #include "untangle/fix.h"
 #include "untangle/intersections.h"
 
 namespace untangle {
-namespace {
 
-// Adds the times of `from` to those of `to` (the attempts of one run share its clock).
 void add_times(const FixResult& from, FixResult& to) {
   to.detect_ms += from.detect_ms;
   to.contours_ms += from.contours_ms;
@@ -21,6 +21,16 @@ void add_times(const FixResult& from, FixResult& to) {
   to.displace_ms += from.displace_ms;
   to.relax_ms += from.relax_ms;
 }
+
+Intersections detect_as_check(const std::vector<Mesh>& meshes, int threads) {
+  DetectOptions detect;
+  detect.threads = threads;
+  detect.skip_obstacle_pairs = true;
+  detect.separation = false;
+  return find_intersections(meshes, detect);
+}
+
+namespace {
 
 // Makes attempt `r` (its positions in `attempt`, run at `clearance`) the result: the retries
 // recorded so far (none kept any more), `before` and the times of every attempt carried over.
@@ -49,8 +59,8 @@ double largest_stretch(const FixResult& r) {
   return s;
 }
 
-// Whether `a` (the continuation) is better than `b` (the attempt kept so far); a tie keeps `b`.
-// An unresolved continuation is never kept: its steps were each no worse than their own start,
+// Whether `a` (the continuation or the layering) is better than `b` (the attempt kept so far); a
+// tie keeps `b`. An unresolved continuation or layering is never kept: its steps were each no worse than their own start,
 // not than the input, so it could leave more crossings of a kind or a vertex moved further than
 // an unresolved run may write (FixOptions::max_written_move).
 bool better(const FixResult& a, const FixResult& b, const QualityBounds& bounds) {
@@ -75,14 +85,6 @@ std::array<std::size_t, 4> kinds_of(const std::vector<Mesh>& meshes, const Inter
   }
   k[3] = found.counts.inside_vertices;
   return k;
-}
-
-Intersections detect_as_check(const std::vector<Mesh>& meshes, int threads) {
-  DetectOptions detect;
-  detect.threads = threads;
-  detect.skip_obstacle_pairs = true;
-  detect.separation = false;
-  return find_intersections(meshes, detect);
 }
 
 // The repair decides on the canonical scene of the input; `check` of the result decides on the
@@ -153,8 +155,11 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
   const std::vector<Mesh>* toward = rest != nullptr ? &rest_work : nullptr;
 
   // Retries and the continuation start from the input again: keep it while there may be one.
-  const std::vector<Mesh> start =
-      options.retries > 0 || options.continuation ? work : std::vector<Mesh>{};
+  const bool may_layer = options.layering && options.method == FixMethod::kRegion &&
+                         layered_scene(work);
+  const std::vector<Mesh> start = options.retries > 0 || options.continuation || may_layer
+                                      ? work
+                                      : std::vector<Mesh>{};
   bool cancelled = false;
   const FixProgress watch = [&](const IterationRecord& record) {
     if (progress && !progress(record)) cancelled = true;
@@ -208,6 +213,24 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
       }
       result.continuation = record;
     }
+  }
+
+  if (may_layer && !cancelled && rank(result, options.bounds) > 0) {
+    std::vector<Mesh> attempt = start;
+    LayeringRecord record;
+    FixResult r = run_layering(attempt, options, work_pins, round, watch, record);
+    record.ran = true;
+    for (LayerRecord& layer : record.layers) layer.mesh = scene.mesh_order[layer.mesh];
+    if (!cancelled && better(r, result, options.bounds)) {
+      record.kept = true;
+      ContinuationRecord continued = std::move(result.continuation);  // set aside, still reported
+      continued.kept = false;
+      adopt(r, attempt, options.clearance, result, work);
+      result.continuation = std::move(continued);
+    } else {
+      add_times(r, result);
+    }
+    result.layering = std::move(record);
   }
 
   counts_in_input_order(scene, result.before);

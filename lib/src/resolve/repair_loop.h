@@ -23,6 +23,13 @@ FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const
 // fix_meshes (fix.h) whose relaxation moves toward `rest` (per mesh, per input vertex; an
 // obstacle's entry its positions now) in place of the input's shape: the simulation's correction,
 // whose input is a step's end and whose cloth has a rest shape of its own. Null: fix_meshes.
+// Adds the times of `from` to those of `to` (the attempts of one run share its clock).
+void add_times(const FixResult& from, FixResult& to);
+
+// Detection as `check` runs it on a scene (obstacle pairs left out, no separation test): the
+// verdict on a result.
+Intersections detect_as_check(const std::vector<Mesh>& meshes, int threads);
+
 FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
                             const std::vector<std::vector<Vec3>>* rest, const FixOptions& options,
                             const PinMask& pins, const std::function<Vec3(const Vec3&)>& round,

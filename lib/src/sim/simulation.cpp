@@ -156,8 +156,12 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
         record.crossings_after = 0;
         record.corrected = true;
       } else {
-        const FixResult fixed =
-            fix_meshes_toward(s.scene.meshes, &s.relax_toward, o.fix, s.scene.pins, round, {});
+        // A step's contact is shallow: the layering (garments laid one at a time over a body
+        // from the input) is not what corrects it, and would redo the step's whole scene.
+        FixOptions correction = o.fix;
+        correction.layering = false;
+        const FixResult fixed = fix_meshes_toward(s.scene.meshes, &s.relax_toward, correction,
+                                                  s.scene.pins, round, {});
         record.crossings_before += fixed.before.crossings;
         record.crossings_after = fixed.after.crossings;
         record.correction_iterations += fixed.iterations;

@@ -1,0 +1,249 @@
+// The layering (layering.h): each garment alone on the obstacles, then each laid over the ones
+// inside it, nearest the obstacles first.
+#include "resolve/layering.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "geometry/vec3.h"
+#include "resolve/continuation.h"
+#include "resolve/repair_loop.h"
+#include "resolve/triangle_tree.h"
+#include "topology/scene_topology.h"
+
+namespace untangle {
+namespace {
+
+// The mean length of the mesh's welded edges.
+double mean_edge(const Mesh& mesh) {
+  const SceneTopology topo = build_topology({mesh});
+  double sum = 0.0;
+  for (const auto& e : topo.edges) sum += norm(sub(topo.points[e[0]], topo.points[e[1]]));
+  return topo.edges.empty() ? 0.0 : sum / static_cast<double>(topo.edges.size());
+}
+
+// One layer: an edge-connected component of a movable mesh (a top and the trousers of one garment
+// file are two), with its triangles renumbered over its own vertices.
+struct Piece {
+  std::uint32_t mesh = 0, component = 0;  // component: ordinal within the mesh, by lowest vertex
+  std::vector<std::uint32_t> vertices;    // input indices, ascending
+  std::vector<Triangle> triangles;        // over `vertices`
+  std::vector<std::uint32_t> polygon;     // per triangle, its source face
+};
+
+// The pieces of the movable meshes, in mesh order, then component order; welded by the input's
+// positions (as the repair welds them), components without a triangle left out.
+std::vector<Piece> pieces_of(const std::vector<Mesh>& meshes) {
+  const SceneTopology topo = build_topology(meshes);
+  std::vector<Piece> pieces;
+  for (std::uint32_t m = 0; m < meshes.size(); ++m) {
+    if (meshes[m].role != Role::kMovable) continue;
+    const std::size_t first = pieces.size();
+    std::vector<std::uint32_t> piece_of_component(topo.component_mesh.size(), kNone);
+    std::vector<std::uint32_t> local(meshes[m].positions.size(), kNone);
+    const auto component = [&](std::uint32_t v) { return topo.vertex_component[topo.welded[m][v]]; };
+    for (std::uint32_t v = 0; v < meshes[m].positions.size(); ++v) {
+      std::uint32_t& piece = piece_of_component[component(v)];
+      if (piece == kNone) {
+        piece = static_cast<std::uint32_t>(pieces.size());
+        pieces.push_back({m, static_cast<std::uint32_t>(pieces.size() - first), {}, {}, {}});
+      }
+      local[v] = static_cast<std::uint32_t>(pieces[piece].vertices.size());
+      pieces[piece].vertices.push_back(v);
+    }
+    const Mesh& mesh = meshes[m];
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const Triangle& tri = mesh.triangles[t];
+      if (tri[0] >= local.size() || tri[1] >= local.size() || tri[2] >= local.size()) continue;
+      const std::uint32_t c = component(tri[0]);
+      if (component(tri[1]) != c || component(tri[2]) != c) continue;
+      Piece& piece = pieces[piece_of_component[c]];
+      piece.triangles.push_back({local[tri[0]], local[tri[1]], local[tri[2]]});
+      piece.polygon.push_back(t < mesh.polygon.size() ? mesh.polygon[t] : static_cast<std::uint32_t>(t));
+    }
+  }
+  std::vector<Piece> kept;
+  for (Piece& p : pieces)
+    if (!p.triangles.empty()) kept.push_back(std::move(p));
+  return kept;
+}
+
+// The piece as a mesh of its own, at the positions of `mesh`.
+Mesh piece_mesh(const Mesh& mesh, const Piece& piece, Role role) {
+  Mesh out;
+  out.path = mesh.path;
+  out.name = mesh.name;
+  out.role = role;
+  out.positions.reserve(piece.vertices.size());
+  for (std::uint32_t v : piece.vertices) out.positions.push_back(mesh.positions[v]);
+  out.triangles = piece.triangles;
+  out.polygon = piece.polygon;
+  out.source_faces = mesh.source_faces;
+  return out;
+}
+
+}  // namespace
+
+bool layered_scene(const std::vector<Mesh>& meshes) {
+  bool obstacle = false;
+  for (const Mesh& m : meshes) obstacle = obstacle || (m.role == Role::kObstacle && !m.triangles.empty());
+  return obstacle && pieces_of(meshes).size() >= 2;
+}
+
+FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
+                       const Rounding& round, const FixProgress& progress,
+                       LayeringRecord& record) {
+  const std::vector<Mesh> input = meshes;
+  std::vector<std::uint32_t> movable, obstacles;
+  for (std::uint32_t m = 0; m < meshes.size(); ++m)
+    (meshes[m].role == Role::kMovable ? movable : obstacles).push_back(m);
+  const auto pins_of = [&](std::uint32_t m) {
+    return m < pins.size() ? pins[m] : std::vector<std::uint8_t>{};
+  };
+
+  FixResult result;
+  bool cancelled = false;
+  const FixProgress watch = [&](const IterationRecord& r) {
+    IterationRecord staged = r;
+    staged.stage = 5;
+    if (progress && !progress(staged)) cancelled = true;
+    return !cancelled;
+  };
+  int last_iterations = 0;
+  const auto take = [&](const FixResult& r) {
+    for (IterationRecord h : r.history) {
+      h.stage = 5;
+      result.history.push_back(h);
+    }
+    add_times(r, result);
+    result.relax_sweeps += r.relax_sweeps;
+    result.relaxed_vertices += r.relaxed_vertices;
+    last_iterations = r.iterations;
+  };
+
+  // 1. Each movable mesh alone with the obstacles.
+  FixOptions alone = options;
+  alone.layering = false;
+  for (std::uint32_t m : movable) {
+    if (cancelled) break;
+    std::vector<Mesh> scene{meshes[m]};
+    PinMask scene_pins{pins_of(m)};
+    for (std::uint32_t o : obstacles) {
+      scene.push_back(meshes[o]);
+      scene_pins.emplace_back();
+    }
+    const FixResult r = fix_meshes(scene, alone, scene_pins, round, watch);
+    take(r);
+    meshes[m].positions = std::move(scene[0].positions);
+  }
+
+  // 2. The pieces, nearest the obstacles first: the median distance of a piece's vertices to them.
+  TreeTriangleList triangles;
+  for (std::uint32_t o : obstacles)
+    for (const Triangle& t : meshes[o].triangles) {
+      const Vec3 &a = meshes[o].positions[t[0]], &b = meshes[o].positions[t[1]],
+                 &c = meshes[o].positions[t[2]];
+      triangles.emplace_back(TreeKernel::Point_3(a[0], a[1], a[2]),
+                             TreeKernel::Point_3(b[0], b[1], b[2]),
+                             TreeKernel::Point_3(c[0], c[1], c[2]));
+    }
+  TriangleTree tree(triangles.begin(), triangles.end());
+  tree.accelerate_distance_queries();
+  const auto closest = [&](const Vec3& p) {
+    const auto q = tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
+    return Vec3{q.x(), q.y(), q.z()};
+  };
+  const std::vector<Piece> pieces = pieces_of(input);
+  std::vector<double> distance(pieces.size(), 0.0);
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    std::vector<double> d;
+    d.reserve(pieces[k].vertices.size());
+    for (std::uint32_t v : pieces[k].vertices) {
+      const Vec3& p = meshes[pieces[k].mesh].positions[v];
+      d.push_back(norm(sub(closest(p), p)));
+    }
+    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+    distance[k] = d[d.size() / 2];
+  }
+  std::vector<std::uint32_t> order(pieces.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b]; });
+
+  // 3. Each over the ones inside it.
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const Piece& piece = pieces[order[k]];
+    LayerRecord layer;
+    layer.mesh = piece.mesh;
+    layer.component = piece.component;
+    layer.distance = distance[order[k]];
+    // The piece, the ones inside it as obstacles, the obstacles.
+    std::vector<Mesh> scene{piece_mesh(meshes[piece.mesh], piece, Role::kMovable)};
+    PinMask scene_pins(1);
+    const std::vector<std::uint8_t> mesh_pins = pins_of(piece.mesh);
+    if (!mesh_pins.empty())
+      for (std::uint32_t v : piece.vertices) scene_pins[0].push_back(v < mesh_pins.size() ? mesh_pins[v] : 0);
+    for (std::size_t i = 0; i < k; ++i) {
+      const Piece& inner = pieces[order[i]];
+      scene.push_back(piece_mesh(meshes[inner.mesh], inner, Role::kObstacle));
+      scene_pins.emplace_back();
+    }
+    for (std::uint32_t o : obstacles) {
+      scene.push_back(meshes[o]);
+      scene_pins.emplace_back();
+    }
+    const Intersections found = detect_as_check(scene, options.threads);
+    layer.clean = found.counts.crossings == 0 && found.counts.inside_vertices == 0;
+    if (k == 0 || layer.clean || cancelled) {
+      record.layers.push_back(std::move(layer));
+      continue;
+    }
+    // The plan: the inner pieces flattened onto the obstacles' surface.
+    ContinuationPlan plan;
+    plan.inward.resize(scene.size());
+    for (std::size_t i = 1; i <= k; ++i) {
+      plan.inward[i].resize(scene[i].positions.size());
+      for (std::size_t v = 0; v < scene[i].positions.size(); ++v) {
+        const Vec3& p = scene[i].positions[v];
+        const Vec3 in = sub(closest(p), p);
+        plan.inward[i][v] = in;
+        const double length = norm(in);
+        plan.largest_shrink = std::max(plan.largest_shrink, length);
+        if (length > 0.0) ++plan.shrunk_vertices;
+      }
+    }
+    plan.movable_edge = mean_edge(piece_mesh(input[piece.mesh], piece, Role::kMovable));
+    if (!(plan.movable_edge > 0.0) || !(plan.largest_shrink > 0.0)) {
+      record.layers.push_back(std::move(layer));
+      continue;
+    }
+    plan.steps = continuation_steps(plan.largest_shrink, plan.movable_edge);
+    // Each step relaxes toward the shape the piece had alone on the obstacles, not toward its
+    // input: the input lies through the obstacles, and relaxed toward it, female_sportsuit01 over
+    // female_casualsuit01 on their body ended with 15 crossings, where this ends clean.
+    const FixResult r =
+        run_continuation(scene, plan, alone, scene_pins, round, watch, layer.runs, 5);
+    take(r);
+    layer.clean = r.clean;
+    for (std::size_t i = 0; i < piece.vertices.size(); ++i)
+      meshes[piece.mesh].positions[piece.vertices[i]] = scene[0].positions[i];
+    record.layers.push_back(std::move(layer));
+  }
+
+  // The whole scene, judged as one.
+  const Intersections after = detect_as_check(meshes, options.threads);
+  result.after = after.counts;
+  result.clean = !cancelled && after.counts.crossings == 0 && after.counts.inside_vertices == 0;
+  result.stalled = !result.clean;
+  result.iterations = last_iterations;
+  result.quality = measure_quality(input, meshes);
+  result.displacement = displacement_against(input, meshes);
+  record.clean = result.clean;
+  record.crossings = after.counts.crossings;
+  record.inside_vertices = after.counts.inside_vertices;
+  for (const QualityStats& q : result.quality) record.max_stretch = std::max(record.max_stretch, q.max_stretch);
+  return result;
+}
+
+}  // namespace untangle
