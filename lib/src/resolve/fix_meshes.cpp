@@ -218,7 +218,9 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
   if (may_layer && !cancelled && rank(result, options.bounds) > 0) {
     std::vector<Mesh> attempt = start;
     LayeringRecord record;
-    FixResult r = run_layering(attempt, options, work_pins, round, watch, record);
+    std::vector<std::vector<std::uint32_t>> input_vertex;
+    for (const CanonicalMesh& c : scene.renumbering) input_vertex.push_back(c.vertex_order);
+    FixResult r = run_layering(attempt, options, work_pins, round, watch, input_vertex, record);
     record.ran = true;
     for (LayerRecord& layer : record.layers) layer.mesh = scene.mesh_order[layer.mesh];
     if (!cancelled && better(r, result, options.bounds)) {

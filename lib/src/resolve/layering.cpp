@@ -26,7 +26,7 @@ double mean_edge(const Mesh& mesh) {
 // One layer: an edge-connected component of a movable mesh (a top and the trousers of one garment
 // file are two), with its triangles renumbered over its own vertices.
 struct Piece {
-  std::uint32_t mesh = 0, component = 0;  // component: ordinal within the mesh, by lowest vertex
+  std::uint32_t mesh = 0;
   std::vector<std::uint32_t> vertices;    // input indices, ascending
   std::vector<Triangle> triangles;        // over `vertices`
   std::vector<std::uint32_t> polygon;     // per triangle, its source face
@@ -39,7 +39,6 @@ std::vector<Piece> pieces_of(const std::vector<Mesh>& meshes) {
   std::vector<Piece> pieces;
   for (std::uint32_t m = 0; m < meshes.size(); ++m) {
     if (meshes[m].role != Role::kMovable) continue;
-    const std::size_t first = pieces.size();
     std::vector<std::uint32_t> piece_of_component(topo.component_mesh.size(), kNone);
     std::vector<std::uint32_t> local(meshes[m].positions.size(), kNone);
     const auto component = [&](std::uint32_t v) { return topo.vertex_component[topo.welded[m][v]]; };
@@ -47,7 +46,7 @@ std::vector<Piece> pieces_of(const std::vector<Mesh>& meshes) {
       std::uint32_t& piece = piece_of_component[component(v)];
       if (piece == kNone) {
         piece = static_cast<std::uint32_t>(pieces.size());
-        pieces.push_back({m, static_cast<std::uint32_t>(pieces.size() - first), {}, {}, {}});
+        pieces.push_back({m, {}, {}, {}});
       }
       local[v] = static_cast<std::uint32_t>(pieces[piece].vertices.size());
       pieces[piece].vertices.push_back(v);
@@ -93,6 +92,7 @@ bool layered_scene(const std::vector<Mesh>& meshes) {
 
 FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                        const Rounding& round, const FixProgress& progress,
+                       const std::vector<std::vector<std::uint32_t>>& input_vertex,
                        LayeringRecord& record) {
   const std::vector<Mesh> input = meshes;
   std::vector<std::uint32_t> movable, obstacles;
@@ -155,6 +155,21 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
     return Vec3{q.x(), q.y(), q.z()};
   };
   const std::vector<Piece> pieces = pieces_of(input);
+  // Each piece as the report names it: its ordinal among its mesh's pieces by their lowest vertex
+  // in the input's numbering (the pieces are found in the canonical one).
+  std::vector<std::uint32_t> named(pieces.size(), 0);
+  {
+    std::vector<std::uint32_t> lowest(pieces.size(), kNone);
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const std::vector<std::uint32_t>* to_input =
+          pieces[k].mesh < input_vertex.size() ? &input_vertex[pieces[k].mesh] : nullptr;
+      for (std::uint32_t v : pieces[k].vertices)
+        lowest[k] = std::min(lowest[k], to_input != nullptr && v < to_input->size() ? (*to_input)[v] : v);
+    }
+    for (std::size_t k = 0; k < pieces.size(); ++k)
+      for (std::size_t i = 0; i < pieces.size(); ++i)
+        if (pieces[i].mesh == pieces[k].mesh && lowest[i] < lowest[k]) ++named[k];
+  }
   std::vector<double> distance(pieces.size(), 0.0);
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     std::vector<double> d;
@@ -176,7 +191,7 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
     const Piece& piece = pieces[order[k]];
     LayerRecord layer;
     layer.mesh = piece.mesh;
-    layer.component = piece.component;
+    layer.component = named[order[k]];
     layer.distance = distance[order[k]];
     // The piece, the ones inside it as obstacles, the obstacles.
     std::vector<Mesh> scene{piece_mesh(meshes[piece.mesh], piece, Role::kMovable)};

@@ -30,9 +30,12 @@ bool layered_scene(const std::vector<Mesh>& meshes);
 //     toward the shape it had alone after each (run_continuation, stage 5).
 // The result is judged on the whole scene: `clean`, `after`, `quality` and `displacement` against
 // the input; `history` every repair's iterations in order (stage 5). `record.layers` lists the
-// layers innermost first, their meshes in canonical indices.
+// layers innermost first, their meshes in canonical indices, each piece named by its ordinal
+// among its mesh's pieces by lowest vertex in the input's numbering (`input_vertex`: per mesh,
+// canonical vertex -> input vertex; a mesh without one is numbered as it is).
 FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                        const Rounding& round, const FixProgress& progress,
+                       const std::vector<std::vector<std::uint32_t>>& input_vertex,
                        LayeringRecord& record);
 
 }  // namespace untangle
