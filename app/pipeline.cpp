@@ -2,6 +2,7 @@
 #include "pipeline.h"
 
 #include <cctype>
+#include <cstring>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -161,6 +162,22 @@ PinMask read_pins(const CommonOptions& o, const std::vector<Mesh>& meshes,
 }
 
 
+// Whether `a` and `b` are the same meshes for detection: in the same order, the same roles and
+// triangles, and positions equal bit for bit (memcmp: 0.0 and -0.0, or two NaNs, count as
+// different). Detection reads nothing else of a mesh.
+bool same_geometry(const std::vector<Mesh>& a, const std::vector<Mesh>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t m = 0; m < a.size(); ++m) {
+    const Mesh &x = a[m], &y = b[m];
+    if (x.role != y.role || x.triangles != y.triangles || x.positions.size() != y.positions.size())
+      return false;
+    if (!x.positions.empty() &&
+        std::memcmp(x.positions.data(), y.positions.data(), x.positions.size() * sizeof(Vec3)) != 0)
+      return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
@@ -219,10 +236,17 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   // Without patterns the read-back meshes are taken as they come (an exporter may regroup them).
   run.written = name_patterns(o).empty() ? std::move(read_back) : apply_split(split, read_back);
   const std::vector<Mesh>& written = run.written;
-  DetectOptions detect;
-  detect.threads = o.threads;
-  detect.skip_obstacle_pairs = true;
-  run.verified = find_intersections(written, detect);
+  if (run.result.clean_verdict && same_geometry(written, run.meshes)) {
+    // The same roles, triangles and positions, bit for bit, as the repair's final detection saw:
+    // the same detection (it is deterministic), found clean; not run a second time.
+    run.verified = std::move(*run.result.clean_verdict);
+  } else {
+    DetectOptions detect;
+    detect.threads = o.threads;
+    detect.skip_obstacle_pairs = true;
+    run.verified = find_intersections(written, detect);
+  }
+  run.result.clean_verdict.reset();
   // Quality too is judged on what was written (rounded as the format stores it).
   std::vector<Mesh> as_read = run.meshes;
   for (std::size_t m = 0; m < as_read.size(); ++m) as_read[m].positions = run.input[m];

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -249,6 +250,13 @@ struct FixResult {
   // describe_mesh of each mesh as given, in input order, from the repair's own topology of the
   // input (the same figures): a caller that reports them need not build that again.
   std::vector<MeshInfo> inputs;
+  // When that final detection found the returned meshes clean: the detection itself,
+  // find_intersections of the meshes as returned with DetectOptions::skip_obstacle_pairs (with no
+  // crossing there is no contour, so DetectOptions::separation changes nothing in it). Empty
+  // otherwise. A caller that writes the positions and reads back the same meshes (roles,
+  // triangles and positions, bit for bit) has its detection of them here and need not run it
+  // again (the CLI's check of the written files, issue 24).
+  std::optional<Intersections> clean_verdict;
 };
 
 // Per mesh, per input vertex: 1 = pinned (never moves). Empty = nothing pinned.

@@ -3,6 +3,7 @@
 // (FixOptions::retries), continued when asked (FixOptions::continuation), and layered when
 // garments worn together are left unresolved or distorted (FixOptions::layering).
 #include <algorithm>
+#include <utility>
 
 #include "resolve/canonical_order.h"
 #include "resolve/continuation.h"
@@ -96,11 +97,12 @@ std::array<std::size_t, 4> kinds_of(const std::vector<Mesh>& meshes, const Inter
 // moved beyond max_written_move, gives way to the input itself (DESIGN §5, *Never worse*).
 void judge_as_check(std::vector<Mesh>& meshes, const std::vector<std::vector<Vec3>>& input,
                     const FixOptions& options, FixResult& result) {
-  const Intersections after = detect_as_check(meshes, options.threads);
+  Intersections after = detect_as_check(meshes, options.threads);
   const bool clean = after.counts.crossings == 0 && after.counts.inside_vertices == 0;
   if (clean) {
     if (!result.clean) result.after = after.counts;
     result.clean = true;
+    result.clean_verdict = std::move(after);
     return;
   }
   result.clean = false;
