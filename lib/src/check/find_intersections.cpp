@@ -1,6 +1,8 @@
 // find_intersections: topology, detection, contours, counts (the `check` pipeline).
 #include "untangle/intersections.h"
 
+#include "check/find_intersections.h"
+
 #include <algorithm>
 #include <chrono>
 #include <numeric>
@@ -93,6 +95,13 @@ void to_input_indices(const CanonicalScene& scene, Intersections& result) {
 // meshes are listed in.
 Intersections find_intersections(const std::vector<Mesh>& input, const DetectOptions& options,
                                  DetectTimings* timings, std::vector<MeshInfo>* infos) {
+  return find_intersections_reusing(input, options, nullptr, timings, infos);
+}
+
+Intersections find_intersections_reusing(const std::vector<Mesh>& input,
+                                         const DetectOptions& options,
+                                         const ObstacleWinding* earlier, DetectTimings* timings,
+                                         std::vector<MeshInfo>* infos) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
   CanonicalScene scene = canonical_scene(input);
@@ -130,7 +139,7 @@ Intersections find_intersections(const std::vector<Mesh>& input, const DetectOpt
   std::vector<Role> role;
   for (const Mesh& m : meshes) role.push_back(m.role);
   std::vector<std::uint32_t> inside;
-  find_inside_by_parts(topo, role, ObstacleWinding(topo, role, options.threads), set,
+  find_inside_by_parts(topo, role, ObstacleWinding(topo, role, options.threads, earlier), set,
                        options.threads, inside);
   result.counts.inside_by_mesh = inside_per_mesh(topo, inside);
   for (std::size_t n : result.counts.inside_by_mesh) result.counts.inside_vertices += n;

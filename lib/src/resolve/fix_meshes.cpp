@@ -3,10 +3,13 @@
 // (FixOptions::retries), continued when asked (FixOptions::continuation), and layered when
 // garments worn together are left unresolved or distorted (FixOptions::layering).
 #include <algorithm>
+#include <memory>
 #include <utility>
 
+#include "check/find_intersections.h"
 #include "resolve/canonical_order.h"
 #include "resolve/continuation.h"
+#include "resolve/inside_vertices.h"
 #include "resolve/layering.h"
 #include "resolve/repair_loop.h"
 #include "untangle/fix.h"
@@ -23,12 +26,13 @@ void add_times(const FixResult& from, FixResult& to) {
   to.relax_ms += from.relax_ms;
 }
 
-Intersections detect_as_check(const std::vector<Mesh>& meshes, int threads) {
+Intersections detect_as_check(const std::vector<Mesh>& meshes, int threads,
+                              const ObstacleWinding* winding) {
   DetectOptions detect;
   detect.threads = threads;
   detect.skip_obstacle_pairs = true;
   detect.separation = false;
-  return find_intersections(meshes, detect);
+  return find_intersections_reusing(meshes, detect, winding);
 }
 
 namespace {
@@ -96,8 +100,8 @@ std::array<std::size_t, 4> kinds_of(const std::vector<Mesh>& meshes, const Inter
 // that is not clean takes the verdict's counts, and one worse than the input in any kind, or
 // moved beyond max_written_move, gives way to the input itself (DESIGN §5, *Never worse*).
 void judge_as_check(std::vector<Mesh>& meshes, const std::vector<std::vector<Vec3>>& input,
-                    const FixOptions& options, FixResult& result) {
-  Intersections after = detect_as_check(meshes, options.threads);
+                    const FixOptions& options, const ObstacleWinding* winding, FixResult& result) {
+  Intersections after = detect_as_check(meshes, options.threads, winding);
   const bool clean = after.counts.crossings == 0 && after.counts.inside_vertices == 0;
   if (clean) {
     if (!result.clean) result.after = after.counts;
@@ -110,7 +114,7 @@ void judge_as_check(std::vector<Mesh>& meshes, const std::vector<std::vector<Vec
   std::vector<Mesh> before = meshes;
   for (std::size_t m = 0; m < meshes.size(); ++m) before[m].positions = input[m];
   const auto k_after = kinds_of(meshes, after);
-  const auto k_before = kinds_of(before, detect_as_check(before, options.threads));
+  const auto k_before = kinds_of(before, detect_as_check(before, options.threads, winding));
   bool worse = false;
   for (int k = 0; k < 4; ++k) worse = worse || k_after[k] > k_before[k];
   // The largest move against the mesh's input bounding-box diagonal, as the quality measures it.
@@ -168,7 +172,9 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     return !cancelled;
   };
   std::vector<MeshInfo> described;  // the input's, by the first attempt (canonical order)
-  FixResult result = run_repair(work, options, work_pins, round, watch, toward, &described);
+  std::shared_ptr<const ObstacleWinding> winding;  // the obstacles' winding numbers, likewise
+  FixResult result =
+      run_repair(work, options, work_pins, round, watch, toward, &described, &winding);
   result.clearance = options.clearance;
   FixOptions retry = options;
   const auto illegal = [](const FixResult& r) {
@@ -248,7 +254,7 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     input[m] = std::move(meshes[m].positions);
     meshes[m].positions = std::move(positions[m]);
   }
-  if (!cancelled) judge_as_check(meshes, input, options, result);
+  if (!cancelled) judge_as_check(meshes, input, options, winding.get(), result);
   result.inputs = in_input_order(scene, described);
   return result;
 }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <utility>
 
 #include "geometry/vec3.h"
 
@@ -81,7 +82,7 @@ bool has_inside(const SceneTopology& topo, std::uint32_t m,
 }  // namespace
 
 ObstacleWinding::ObstacleWinding(const SceneTopology& topo, const std::vector<Role>& role,
-                                 int threads)
+                                 int threads, const ObstacleWinding* earlier)
     : slot_(role.size(), kNone), sign_(role.size(), 1.0) {
   for (std::uint32_t m = 0; m < role.size(); ++m) {
     if (role[m] != Role::kObstacle) continue;
@@ -90,14 +91,22 @@ ObstacleWinding::ObstacleWinding(const SceneTopology& topo, const std::vector<Ro
     if (tris.empty() || !has_inside(topo, m, holes_)) continue;
     slot_[m] = static_cast<std::uint32_t>(numbers_.size());
     obstacles_.push_back(m);
-    numbers_.emplace_back(topo.points, tris, threads);
-    if (numbers_.back().signed_volume() < 0.0) sign_[m] = -1.0;
+    std::shared_ptr<const WindingNumber> number;
+    if (earlier != nullptr)
+      for (const auto& e : earlier->numbers_)
+        if (e->built_from(topo.points, tris)) {
+          number = e;
+          break;
+        }
+    if (!number) number = std::make_shared<const WindingNumber>(topo.points, tris, threads);
+    numbers_.push_back(std::move(number));
+    if (numbers_.back()->signed_volume() < 0.0) sign_[m] = -1.0;
   }
 }
 
 double ObstacleWinding::winding(std::uint32_t mesh, const Vec3& p) const {
   if (mesh >= slot_.size() || slot_[mesh] == kNone) return 0.0;
-  return sign_[mesh] * numbers_[slot_[mesh]](p);
+  return sign_[mesh] * (*numbers_[slot_[mesh]])(p);
 }
 
 std::uint32_t ObstacleWinding::inside(const Vec3& p) const {
@@ -111,7 +120,7 @@ bool ObstacleWinding::inside_clearly(const Vec3& p, std::uint32_t& first) const 
   bool clear = true;
   for (std::uint32_t m : obstacles_) {
     bool in_plane = false;
-    const double w = sign_[m] * numbers_[slot_[m]].evaluate(p, in_plane);
+    const double w = sign_[m] * numbers_[slot_[m]]->evaluate(p, in_plane);
     if (in_plane || std::abs(w - std::round(w)) > 0.25) clear = false;
     if (first == kNone && w > 0.5) first = m;
   }

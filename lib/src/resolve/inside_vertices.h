@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "detect/detect_crossings.h"
@@ -30,8 +31,12 @@ class ObstacleWinding {
   };
 
   // The obstacle meshes of `topo` (role per mesh) at its current positions; each hierarchy built
-  // on `threads` threads (0: all cores), the same for every count.
-  ObstacleWinding(const SceneTopology& topo, const std::vector<Role>& role, int threads = 1);
+  // on `threads` threads (0: all cores), the same for every count. An obstacle whose triangles
+  // are those one of `earlier`'s hierarchies was built from (WindingNumber::built_from) shares
+  // that hierarchy instead of building it again: the same values (the obstacles never move, and
+  // a run detects them several times; issue 24).
+  ObstacleWinding(const SceneTopology& topo, const std::vector<Role>& role, int threads = 1,
+                  const ObstacleWinding* earlier = nullptr);
   // The winding number of obstacle mesh `mesh` at p, turned for an inside-out mesh (0 for a
   // movable mesh and for an obstacle without an inside).
   double winding(std::uint32_t mesh, const Vec3& p) const;
@@ -48,7 +53,7 @@ class ObstacleWinding {
 
  private:
   std::vector<std::uint32_t> obstacles_;  // obstacle mesh ids, ascending
-  std::vector<WindingNumber> numbers_;    // per entry of obstacles_
+  std::vector<std::shared_ptr<const WindingNumber>> numbers_;  // per entry of obstacles_
   std::vector<std::uint32_t> slot_;       // per mesh: index into numbers_, or kNone
   std::vector<double> sign_;              // per mesh: +1, or -1 when inside out
   std::vector<Hole> holes_;

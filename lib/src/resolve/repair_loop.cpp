@@ -93,6 +93,9 @@ class RepairLoop {
     detect_.skipped_planes = &obstacle_planes_;
   }
 
+  // The obstacles' winding numbers, built once at the start (the obstacles never move).
+  const ObstacleWinding& winding() const { return winding_; }
+
   FixResult run(const FixProgress& progress) {
     FixResult result;
     const auto start = Clock::now();
@@ -508,8 +511,12 @@ class RepairLoop {
 
 FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                      const Rounding& round, const FixProgress& progress,
-                     const std::vector<Mesh>* rest, std::vector<MeshInfo>* described) {
-  return RepairLoop(meshes, options, pins, round, rest, described).run(progress);
+                     const std::vector<Mesh>* rest, std::vector<MeshInfo>* described,
+                     std::shared_ptr<const ObstacleWinding>* winding) {
+  RepairLoop loop(meshes, options, pins, round, rest, described);
+  FixResult result = loop.run(progress);
+  if (winding != nullptr) *winding = std::make_shared<const ObstacleWinding>(loop.winding());
+  return result;
 }
 
 }  // namespace untangle

@@ -1,6 +1,7 @@
 // The repair loop: detect -> contours -> regions -> moves -> apply, until clean, capped or stalled.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "resolve/moves.h"
@@ -9,16 +10,21 @@
 
 namespace untangle {
 
+class ObstacleWinding;
+
 // fix_meshes on meshes already in canonical order (canonical_order.h): moves the movable
 // meshes' positions in place and returns what the loop computed (`after` counts the state left in
 // `meshes`, as the loop detected it; nothing is detected again). `rest` (optional; the same
 // meshes, vertex for vertex) is the shape the relaxation moves toward, where the run's input is
 // not the asset's shape (the continuation's steps); quality is measured against the run's input.
-// `described` (optional) receives describe_mesh_in of each mesh as given, from the loop's topology.
+// `described` (optional) receives describe_mesh_in of each mesh as given, from the loop's topology;
+// `winding` (optional) the obstacles' winding numbers the loop built, for a later detection of the
+// same obstacles to share (find_intersections_reusing).
 FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                      const Rounding& round, const FixProgress& progress,
                      const std::vector<Mesh>* rest = nullptr,
-                     std::vector<MeshInfo>* described = nullptr);
+                     std::vector<MeshInfo>* described = nullptr,
+                     std::shared_ptr<const ObstacleWinding>* winding = nullptr);
 
 // fix_meshes (fix.h) whose relaxation moves toward `rest` (per mesh, per input vertex; an
 // obstacle's entry its positions now) in place of the input's shape: the simulation's correction,
@@ -27,8 +33,10 @@ FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const
 void add_times(const FixResult& from, FixResult& to);
 
 // Detection as `check` runs it on a scene (obstacle pairs left out, no separation test): the
-// verdict on a result.
-Intersections detect_as_check(const std::vector<Mesh>& meshes, int threads);
+// verdict on a result. `winding`: the obstacles' winding numbers of the repair, shared where the
+// obstacles are the same (null: built here).
+Intersections detect_as_check(const std::vector<Mesh>& meshes, int threads,
+                              const ObstacleWinding* winding = nullptr);
 
 FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
                             const std::vector<std::vector<Vec3>>* rest, const FixOptions& options,

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <utility>
 
 #include "detect/run_parallel.h"
 #include "geometry/vec3.h"
@@ -128,6 +130,18 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points,
   }
   tri_.reserve(items.size());
   for (std::uint32_t i : order) tri_.push_back(items[i].tri);
+  input_of_ = std::move(order);
+}
+
+bool WindingNumber::built_from(const std::vector<Vec3>& points,
+                               const std::vector<std::array<std::uint32_t, 3>>& tris) const {
+  if (tris.size() != tri_.size()) return false;
+  for (std::size_t i = 0; i < tri_.size(); ++i) {
+    const auto& t = tris[input_of_[i]];
+    const std::array<Vec3, 3> corners{points[t[0]], points[t[1]], points[t[2]]};
+    if (std::memcmp(corners.data(), tri_[i].data(), sizeof corners) != 0) return false;
+  }
+  return true;
 }
 
 void WindingNumber::split(const std::vector<Item>& items, std::vector<Keyed>& order,

@@ -32,6 +32,10 @@ class WindingNumber {
   // The signed volume the triangles enclose (negative for an inward surface).
   double signed_volume() const { return volume_; }
   bool empty() const { return tri_.empty(); }
+  // Whether this hierarchy was built from the triangles `tris` of `points`: as many, in the same
+  // order, every corner equal bit for bit. The constructor would then build it again, the same.
+  bool built_from(const std::vector<Vec3>& points,
+                  const std::vector<std::array<std::uint32_t, 3>>& tris) const;
 
  private:
   struct Node {
@@ -64,6 +68,7 @@ class WindingNumber {
              std::uint32_t end, std::uint32_t id, int depth, std::vector<Pending>& pending);
 
   std::vector<std::array<Vec3, 3>> tri_;
+  std::vector<std::uint32_t> input_of_;  // per entry of tri_: its index in the constructor's tris
   std::vector<Node> nodes_;
   double volume_ = 0.0;
 };
