@@ -2,6 +2,7 @@
 // keep, runs the rest (or writes Slurm / GNU parallel scripts that do), and writes the summary.
 #include "batch.h"
 
+#include <CLI/CLI.hpp>
 #include <unistd.h>
 
 #include <cstdio>

@@ -2,12 +2,17 @@
 // with a per-job time limit, summarised in OUT/summary.json, .md and .html (issue 22 §4-5, 23).
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <string>
 #include <vector>
 
 #include "untangle/fix.h"
+
+// CLI::App only by name: every file that includes CLI11 constructs its own copies of CLI11's
+// global validators (strings and std::functions) before main, so only the files that build the
+// command line include it.
+namespace CLI {
+class App;
+}
 
 namespace untangle::app {
 

@@ -1,6 +1,8 @@
 // `untangle render` and `untangle fix --preview DIR`: checks the output, renders, writes the PNG.
 #include "render.h"
 
+#include <CLI/CLI.hpp>
+
 #include <cctype>
 #include <chrono>
 #include <cstdio>

@@ -1,13 +1,15 @@
 // Pictures from the command line: `untangle render` and `untangle fix --preview DIR`.
 #pragma once
 
-#include <CLI/CLI.hpp>
-
 #include <string>
 #include <vector>
 
 #include "pipeline.h"
 #include "untangle/render.h"
+
+namespace CLI {
+class App;  // by name only, as in batch.h
+}
 
 namespace untangle::app {
 
