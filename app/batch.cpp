@@ -214,10 +214,13 @@ class Progress {
 
 }  // namespace
 
-CLI::App* add_batch_command(CLI::App& app, BatchOptions& o, const std::string& footer) {
+CLI::App* add_batch_command(CLI::App& app, BatchOptions& o, const std::string& footer,
+                            bool with_options) {
   const BatchOptions d;
   CLI::App* cmd = app.add_subcommand(
       "batch", "Run fix on many jobs (a manifest or a folder), each in its own process; summarise");
+  cmd->footer(footer);
+  if (!with_options) return cmd;
   cmd->add_option("source", o.source,
                   "MANIFEST.json, or a folder: garments/ and bodies/, <prefix>_generic.obj bodies, or one subfolder per job")
       ->required();
@@ -262,7 +265,6 @@ CLI::App* add_batch_command(CLI::App& app, BatchOptions& o, const std::string& f
       ->option_text("K|ID");
   cmd->add_flag("--gather", o.gather, "Run nothing: merge the jobs' records into the summary");
   cmd->add_flag("-q,--quiet", o.quiet, "Print nothing but errors");
-  cmd->footer(footer);
   return cmd;
 }
 

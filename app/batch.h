@@ -94,8 +94,9 @@ struct JobFiles {
 };
 JobFiles job_files(const BatchJob& job);
 
-// Adds the `batch` subcommand.
-CLI::App* add_batch_command(CLI::App& app, BatchOptions& o, const std::string& footer);
+// Adds the `batch` subcommand, its options (parsed into `o`) only `with_options` (as render.h's).
+CLI::App* add_batch_command(CLI::App& app, BatchOptions& o, const std::string& footer,
+                            bool with_options);
 int run_batch(const BatchOptions& o);
 
 }  // namespace untangle::app

@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -348,6 +349,91 @@ void add_common(CLI::App& cmd, CommonOptions& o, bool with_check_options) {
   }
 }
 
+// The options of `fix` (parsed into `o`; --preview into `preview`).
+void add_fix_options(CLI::App& cmd, CommonOptions& o, std::string& preview) {
+  add_common(cmd, o, true);
+  cmd.add_option("-o,--output", o.outputs, "Output file, once per movable input, in order")
+      ->allow_extra_args(false)
+      ->option_text("OUT");
+  cmd.add_option("--output-dir", o.output_dir, "Write each output under DIR with its input's file name")
+      ->option_text("DIR");
+  cmd.add_option("--pin", o.pin_files,
+                 "File of vertex indices that must not move (0-based, file order; 'INPUT VERTEX' for other inputs)")
+      ->allow_extra_args(false)
+      ->option_text("FILE");
+  cmd.add_option("--pin-group", o.pin_groups, "Pin every vertex of the named group or mesh (repeatable)")
+      ->allow_extra_args(false)
+      ->option_text("NAME");
+  cmd.add_option("--method", o.method,
+                 "region: move whole illegal regions; paper: Eq. 1 on crossing edges only" +
+                     default_is(o.method))
+      ->check(CLI::IsMember({"region", "paper"}))
+      ->option_text("region|paper");
+  cmd.add_option("--max-iterations", o.max_iterations,
+                 "Iteration cap" + default_is(o.max_iterations))
+      ->check(CLI::NonNegativeNumber)
+      ->option_text("N");
+  cmd.add_option("--clearance", o.clearance,
+                 "Gap left between surfaces, in mean edge lengths of the moving mesh" +
+                     default_is(o.clearance))
+      ->check(CLI::NonNegativeNumber)
+      ->option_text("X");
+  // One option with a negated name, so that the last of the two given wins; listed as two flags.
+  const char* const kInside = "A closed obstacle's inside decides the illegal side";
+  const char* const kArea = "The paper's rule everywhere: the smaller region is illegal";
+  CLI::Option* inside_rule =
+      cmd.add_flag("--outside-closed-obstacles,!--orientation-free", o.outside_closed,
+                   std::string(kInside) + "; --orientation-free: " + kArea);
+  auto help = std::make_shared<HelpFormatter>();
+  const std::string default_mark = " (default)";
+  const bool inside_default = o.outside_closed;
+  help->split(inside_rule->get_name(),
+              {{"--outside-closed-obstacles", kInside + (inside_default ? default_mark : "")},
+               {"--orientation-free", kArea + (inside_default ? "" : default_mark)}});
+  cmd.formatter(help);
+  cmd.add_flag_callback("--no-relax", [&o] { o.relax = false; },
+               "Skip the shape relaxation after a clean repair (moved vertices and the rings around "
+               "them relax toward the input's shape, every step kept clean)");
+  cmd.add_option("--relax-sweeps", o.relax_sweeps,
+                 "Sweeps of the shape relaxation at most (fewer: faster, the shape less relaxed)" +
+                     default_is(o.relax_sweeps))
+      ->check(CLI::Range(0, 1000))
+      ->option_text("N");
+  cmd.add_option("--retries", o.retries,
+                 "Retries of an unresolved run, from the input, each with the clearance doubled; "
+                 "the first clean one is kept" + default_is(o.retries))
+      ->check(CLI::Range(0, 8))
+      ->option_text("N");
+  cmd.add_flag("--continuation", o.continuation,
+               "A run left unresolved or beyond the bounds with vertices inside a closed obstacle "
+               "runs once more: the obstacles shrunk inward, then grown back in steps, repaired "
+               "and relaxed after each (slow: up to 32 repairs)");
+  cmd.add_flag_callback("--no-layering", [&o] { o.layering = false; },
+                        "Do not lay garments worn together one at a time when the run is left "
+                        "unresolved or beyond the bounds (each alone on the obstacles, then each "
+                        "over the ones nearer them, those grown back from the obstacles' surface "
+                        "in steps)");
+  cmd.add_option("--max-stretch", o.bounds.max_stretch,
+                 "Quality bound: no edge of a movable mesh longer or shorter than X times its input "
+                 "length" + default_is(o.bounds.max_stretch))
+      ->check(CLI::Range(1.0, 1e300))
+      ->option_text("X");
+  cmd.add_option("--max-flips", o.bounds.max_flips,
+                 "Quality bound: faces per movable mesh whose normal may turn over" +
+                     default_is(o.bounds.max_flips))
+      ->option_text("N");
+  cmd.add_option("--max-move", o.bounds.max_move,
+                 "Quality bound: largest vertex move, in its mesh's bounding-box diagonals" +
+                     default_is(o.bounds.max_move))
+      ->check(CLI::NonNegativeNumber)
+      ->option_text("X");
+  cmd.add_flag("--overwrite", o.overwrite, "Replace existing files it writes: outputs, their side files, report, contours (never an input)");
+  cmd.add_flag("--allow-loss", o.allow_loss,
+               "Write an output that cannot keep all of its input (animations, skins, textures: "
+               "refused otherwise, naming what would be lost)");
+  untangle::app::add_preview_option(cmd, preview, o);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -360,173 +446,114 @@ int main(int argc, char** argv) {
                        "Print the versions of untangle, CGAL, assimp and Eigen");
   app.require_subcommand(1);
 
+  // Only the subcommands named on the command line get their options. CLI11 builds strings,
+  // validators and std::functions for every option: those of all eight commands cost every
+  // process about half a millisecond of CPU (issue 24). CLI11 takes a subcommand only by its
+  // exact name among the arguments, so one not named is never parsed, and the help of
+  // `untangle` lists the subcommands by name and description alone.
+  const auto named = [argc, argv](const char* name) {
+    for (int i = 1; i < argc; ++i)
+      if (std::strcmp(argv[i], name) == 0) return true;
+    return false;
+  };
   CommonOptions info_options, check_options;
   check_options.threads = untangle::DetectOptions{}.threads;
   CLI::App* info = app.add_subcommand("info", "Describe each mesh: counts, boundary loops, closedness");
-  add_common(*info, info_options, false);
-  info->add_flag("--overwrite", info_options.overwrite, "Replace an existing report file (never an input)");
+  if (named("info")) {
+    add_common(*info, info_options, false);
+    info->add_flag("--overwrite", info_options.overwrite, "Replace an existing report file (never an input)");
+  }
   info->footer(kExitCodes);
   CLI::App* check = app.add_subcommand(
       "check", "Find every crossing between and within meshes; build and classify contours");
-  add_common(*check, check_options, true);
-  check->add_flag("--overwrite", check_options.overwrite,
-                  "Replace an existing report or contour file (never an input)");
+  if (named("check")) {
+    add_common(*check, check_options, true);
+    check->add_flag("--overwrite", check_options.overwrite,
+                    "Replace an existing report or contour file (never an input)");
+  }
   check->footer(kExitCodes);
   CommonOptions fix_options;
+  std::string fix_preview;
   CLI::App* fix = app.add_subcommand(
       "fix", "Move vertices of the movable meshes until nothing intersects; write the result");
-  add_common(*fix, fix_options, true);
-  fix->add_option("-o,--output", fix_options.outputs, "Output file, once per movable input, in order")
-      ->allow_extra_args(false)
-      ->option_text("OUT");
-  fix->add_option("--output-dir", fix_options.output_dir, "Write each output under DIR with its input's file name")
-      ->option_text("DIR");
-  fix->add_option("--pin", fix_options.pin_files,
-                  "File of vertex indices that must not move (0-based, file order; 'INPUT VERTEX' for other inputs)")
-      ->allow_extra_args(false)
-      ->option_text("FILE");
-  fix->add_option("--pin-group", fix_options.pin_groups, "Pin every vertex of the named group or mesh (repeatable)")
-      ->allow_extra_args(false)
-      ->option_text("NAME");
-  fix->add_option("--method", fix_options.method,
-                  "region: move whole illegal regions; paper: Eq. 1 on crossing edges only" +
-                      default_is(fix_options.method))
-      ->check(CLI::IsMember({"region", "paper"}))
-      ->option_text("region|paper");
-  fix->add_option("--max-iterations", fix_options.max_iterations,
-                  "Iteration cap" + default_is(fix_options.max_iterations))
-      ->check(CLI::NonNegativeNumber)
-      ->option_text("N");
-  fix->add_option("--clearance", fix_options.clearance,
-                  "Gap left between surfaces, in mean edge lengths of the moving mesh" +
-                      default_is(fix_options.clearance))
-      ->check(CLI::NonNegativeNumber)
-      ->option_text("X");
-  // One option with a negated name, so that the last of the two given wins; listed as two flags.
-  const char* const kInside = "A closed obstacle's inside decides the illegal side";
-  const char* const kArea = "The paper's rule everywhere: the smaller region is illegal";
-  CLI::Option* inside_rule =
-      fix->add_flag("--outside-closed-obstacles,!--orientation-free", fix_options.outside_closed,
-                    std::string(kInside) + "; --orientation-free: " + kArea);
-  auto help = std::make_shared<HelpFormatter>();
-  const std::string default_mark = " (default)";
-  const bool inside_default = fix_options.outside_closed;
-  help->split(inside_rule->get_name(),
-              {{"--outside-closed-obstacles", kInside + (inside_default ? default_mark : "")},
-               {"--orientation-free", kArea + (inside_default ? "" : default_mark)}});
-  fix->formatter(help);
-  fix->add_flag_callback("--no-relax", [&fix_options] { fix_options.relax = false; },
-                "Skip the shape relaxation after a clean repair (moved vertices and the rings around "
-                "them relax toward the input's shape, every step kept clean)");
-  fix->add_option("--relax-sweeps", fix_options.relax_sweeps,
-                  "Sweeps of the shape relaxation at most (fewer: faster, the shape less relaxed)" +
-                      default_is(fix_options.relax_sweeps))
-      ->check(CLI::Range(0, 1000))
-      ->option_text("N");
-  fix->add_option("--retries", fix_options.retries,
-                  "Retries of an unresolved run, from the input, each with the clearance doubled; "
-                  "the first clean one is kept" + default_is(fix_options.retries))
-      ->check(CLI::Range(0, 8))
-      ->option_text("N");
-  fix->add_flag("--continuation", fix_options.continuation,
-                "A run left unresolved or beyond the bounds with vertices inside a closed obstacle "
-                "runs once more: the obstacles shrunk inward, then grown back in steps, repaired "
-                "and relaxed after each (slow: up to 32 repairs)");
-  fix->add_flag_callback("--no-layering", [&fix_options] { fix_options.layering = false; },
-                         "Do not lay garments worn together one at a time when the run is left "
-                         "unresolved or beyond the bounds (each alone on the obstacles, then each "
-                         "over the ones nearer them, those grown back from the obstacles' surface "
-                         "in steps)");
-  fix->add_option("--max-stretch", fix_options.bounds.max_stretch,
-                  "Quality bound: no edge of a movable mesh longer or shorter than X times its input "
-                  "length" + default_is(fix_options.bounds.max_stretch))
-      ->check(CLI::Range(1.0, 1e300))
-      ->option_text("X");
-  fix->add_option("--max-flips", fix_options.bounds.max_flips,
-                  "Quality bound: faces per movable mesh whose normal may turn over" +
-                      default_is(fix_options.bounds.max_flips))
-      ->option_text("N");
-  fix->add_option("--max-move", fix_options.bounds.max_move,
-                  "Quality bound: largest vertex move, in its mesh's bounding-box diagonals" +
-                      default_is(fix_options.bounds.max_move))
-      ->check(CLI::NonNegativeNumber)
-      ->option_text("X");
-  fix->add_flag("--overwrite", fix_options.overwrite, "Replace existing files it writes: outputs, their side files, report, contours (never an input)");
-  fix->add_flag("--allow-loss", fix_options.allow_loss,
-                "Write an output that cannot keep all of its input (animations, skins, textures: "
-                "refused otherwise, naming what would be lost)");
-  std::string fix_preview;
-  untangle::app::add_preview_option(*fix, fix_preview, fix_options);
+  if (named("fix")) add_fix_options(*fix, fix_options, fix_preview);
   fix->footer(kExitCodes);
   CLI::App* formats = app.add_subcommand("formats", "List the file formats untangle reads and writes");
   formats->footer(kExitCodes);
   untangle::app::BenchOptions bench_options;
   CLI::App* bench = app.add_subcommand(
       "bench", "Time the repair on built-in generated scenes (and garment/body pairs with --data)");
-  bench->add_option("--repeat", bench_options.repeat,
-                    "Runs per scene and method; best and median are reported" +
-                        default_is(bench_options.repeat))
-      ->check(CLI::PositiveNumber)
-      ->option_text("N");
-  bench->add_option("--method", bench_options.method,
-                    "Method(s) to time: region, paper or both" + default_is(bench_options.method))
-      ->check(CLI::IsMember({"region", "paper", "both"}))
-      ->option_text("region|paper|both");
-  bench->add_option("--plot", bench_options.plot_dir,
-                    "Write DIR/<scene>.csv and DIR/<scene>.svg: crossings and contour length per iteration against elapsed ms")
-      ->option_text("DIR");
-  bench->add_option("--data", bench_options.data_dir,
-                    "Also every garment DIR/garments/<prefix>_*.obj against DIR/bodies/<prefix>_generic.obj (as shipped and scaled 1.02), and every two garments for one body worn together")
-      ->option_text("DIR");
-  bench->add_flag("--json", bench_options.json, "Print the tables and histories as JSON on stdout instead");
-  bench->add_flag("--quick", bench_options.quick, "The small suite: four small scenes, accuracy on one");
-  bench->add_option("--threads", bench_options.threads,
-                    "Worker threads, 0 = all cores; the same result for every N" +
-                        default_is(bench_options.threads))
-      ->check(CLI::NonNegativeNumber)
-      ->option_text("N");
+  if (named("bench")) {
+    bench->add_option("--repeat", bench_options.repeat,
+                      "Runs per scene and method; best and median are reported" +
+                          default_is(bench_options.repeat))
+        ->check(CLI::PositiveNumber)
+        ->option_text("N");
+    bench->add_option("--method", bench_options.method,
+                      "Method(s) to time: region, paper or both" + default_is(bench_options.method))
+        ->check(CLI::IsMember({"region", "paper", "both"}))
+        ->option_text("region|paper|both");
+    bench->add_option("--plot", bench_options.plot_dir,
+                      "Write DIR/<scene>.csv and DIR/<scene>.svg: crossings and contour length per iteration against elapsed ms")
+        ->option_text("DIR");
+    bench->add_option("--data", bench_options.data_dir,
+                      "Also every garment DIR/garments/<prefix>_*.obj against DIR/bodies/<prefix>_generic.obj (as shipped and scaled 1.02), and every two garments for one body worn together")
+        ->option_text("DIR");
+    bench->add_flag("--json", bench_options.json, "Print the tables and histories as JSON on stdout instead");
+    bench->add_flag("--quick", bench_options.quick, "The small suite: four small scenes, accuracy on one");
+    bench->add_option("--threads", bench_options.threads,
+                      "Worker threads, 0 = all cores; the same result for every N" +
+                          default_is(bench_options.threads))
+        ->check(CLI::NonNegativeNumber)
+        ->option_text("N");
+  }
   bench->footer(kExitCodes);
   untangle::app::SimulateOptions simulate_options;
+  CLI::Option* frames_option = nullptr;
   CLI::App* simulate = app.add_subcommand(
       "simulate", "Drop cloth on an example obstacle, corrected by the repair after every step");
-  simulate->add_option("scene", simulate_options.scene_file,
-                       "Scene file (JSON: meshes, roles, pins, schedules, cloth parameters)");
-  simulate->add_option("--example", simulate_options.example,
-                       "A built-in scene instead of a scene file: ball, box, spikes, cow or fitting "
-                       "(its scene file is written as DIR/scene.json)")
-      ->check(CLI::IsMember({"ball", "box", "spikes", "cow", "fitting"}))
-      ->option_text("ball|box|spikes|cow|fitting");
-  simulate->add_option("--output-dir", simulate_options.output_dir,
-                       "Write DIR/<mesh>.obj (the start) and DIR/<mesh>_<frame>.obj per saved frame")
-      ->required()
-      ->option_text("DIR");
-  CLI::Option* frames_option = simulate->add_option("--frames", simulate_options.frames,
-                       "Frames to simulate; a scene file's `frames` otherwise" + default_is(simulate_options.frames))
-      ->check(CLI::PositiveNumber)
-      ->option_text("N");
-  simulate->add_option("--save-every", simulate_options.save_every,
-                       "Write every K-th frame (and the last)" + default_is(simulate_options.save_every))
-      ->check(CLI::PositiveNumber)
-      ->option_text("K");
-  simulate->add_option("--report", simulate_options.report,
-                       "Write a JSON report to FILE ('-' = stdout, which then carries nothing else)")
-      ->option_text("FILE");
-  simulate->add_option("--threads", simulate_options.threads,
-                       "Worker threads, 0 = all cores; the same result for every N" +
-                           default_is(simulate_options.threads))
-      ->check(CLI::NonNegativeNumber)
-      ->option_text("N");
-  simulate->add_option("--preview", simulate_options.preview,
-                       "Write DIR/frame_<frame>.png per saved frame and DIR/contact_sheet.png")
-      ->option_text("DIR");
-  simulate->add_flag("--overwrite", simulate_options.overwrite,
-                     "Replace frame files and the report left by an earlier run");
-  simulate->add_flag("-q,--quiet", simulate_options.quiet, "Print nothing but errors");
+  if (named("simulate")) {
+    simulate->add_option("scene", simulate_options.scene_file,
+                         "Scene file (JSON: meshes, roles, pins, schedules, cloth parameters)");
+    simulate->add_option("--example", simulate_options.example,
+                         "A built-in scene instead of a scene file: ball, box, spikes, cow or fitting "
+                         "(its scene file is written as DIR/scene.json)")
+        ->check(CLI::IsMember({"ball", "box", "spikes", "cow", "fitting"}))
+        ->option_text("ball|box|spikes|cow|fitting");
+    simulate->add_option("--output-dir", simulate_options.output_dir,
+                         "Write DIR/<mesh>.obj (the start) and DIR/<mesh>_<frame>.obj per saved frame")
+        ->required()
+        ->option_text("DIR");
+    frames_option = simulate->add_option("--frames", simulate_options.frames,
+                         "Frames to simulate; a scene file's `frames` otherwise" + default_is(simulate_options.frames))
+        ->check(CLI::PositiveNumber)
+        ->option_text("N");
+    simulate->add_option("--save-every", simulate_options.save_every,
+                         "Write every K-th frame (and the last)" + default_is(simulate_options.save_every))
+        ->check(CLI::PositiveNumber)
+        ->option_text("K");
+    simulate->add_option("--report", simulate_options.report,
+                         "Write a JSON report to FILE ('-' = stdout, which then carries nothing else)")
+        ->option_text("FILE");
+    simulate->add_option("--threads", simulate_options.threads,
+                         "Worker threads, 0 = all cores; the same result for every N" +
+                             default_is(simulate_options.threads))
+        ->check(CLI::NonNegativeNumber)
+        ->option_text("N");
+    simulate->add_option("--preview", simulate_options.preview,
+                         "Write DIR/frame_<frame>.png per saved frame and DIR/contact_sheet.png")
+        ->option_text("DIR");
+    simulate->add_flag("--overwrite", simulate_options.overwrite,
+                       "Replace frame files and the report left by an earlier run");
+    simulate->add_flag("-q,--quiet", simulate_options.quiet, "Print nothing but errors");
+  }
   simulate->footer(kExitCodes);
   untangle::app::RenderCliOptions render_options;
-  CLI::App* render = untangle::app::add_render_command(app, render_options, kExitCodes);
+  CLI::App* render =
+      untangle::app::add_render_command(app, render_options, kExitCodes, named("render"));
   untangle::app::BatchOptions batch_options;
-  CLI::App* batch = untangle::app::add_batch_command(app, batch_options, kExitCodes);
+  CLI::App* batch =
+      untangle::app::add_batch_command(app, batch_options, kExitCodes, named("batch"));
 
   try {
     app.parse(argc, argv);

@@ -61,9 +61,12 @@ void parse_size(const std::string& option, const std::string& text, int& width, 
   }
 }
 
-CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::string& footer) {
+CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::string& footer,
+                             bool with_options) {
   CLI::App* cmd = app.add_subcommand(
       "render", "Draw the meshes to a PNG: shaded surfaces, contours in red, a legend");
+  cmd->footer(footer);
+  if (!with_options) return cmd;
   cmd->add_option("meshes", o.inputs,
                   "Mesh files (every format assimp reads), each in its own colour")
       ->required();
@@ -90,7 +93,6 @@ CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::stri
       ->check(CLI::NonNegativeNumber)
       ->option_text("N");
   cmd->add_flag("-q,--quiet", o.quiet, "Print nothing but errors");
-  cmd->footer(footer);
   return cmd;
 }
 

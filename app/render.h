@@ -30,8 +30,10 @@ struct RenderCliOptions {
 // Parses "WxH" (each 16 to 8192 pixels) of `option`; throws Error(kUsage) naming the option.
 void parse_size(const std::string& option, const std::string& text, int& width, int& height);
 
-// Adds the `render` subcommand to `app`, options parsed into `o`.
-CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::string& footer);
+// Adds the `render` subcommand to `app`, options parsed into `o` (none without `with_options`:
+// main gives options only to the subcommands the command line names).
+CLI::App* add_render_command(CLI::App& app, RenderCliOptions& o, const std::string& footer,
+                             bool with_options);
 int run_render(const RenderCliOptions& o);
 
 // Adds `--preview DIR` and `--preview-size WxH` (into o.preview_size) to `fix`.
