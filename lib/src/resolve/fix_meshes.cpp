@@ -161,8 +161,7 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
   const std::vector<Mesh>* toward = rest != nullptr ? &rest_work : nullptr;
 
   // Retries and the continuation start from the input again: keep it while there may be one.
-  const bool may_layer = options.layering && options.method == FixMethod::kRegion &&
-                         layered_scene(work);
+  const bool may_layer = options.layering && options.method == FixMethod::kRegion;
   const std::vector<Mesh> start = options.retries > 0 || options.continuation || may_layer
                                       ? work
                                       : std::vector<Mesh>{};
@@ -223,7 +222,8 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     }
   }
 
-  if (may_layer && !cancelled && rank(result, options.bounds) > 0) {
+  if (may_layer && !cancelled && rank(result, options.bounds) > 0 &&
+      worth_layering(start, work, options.threads)) {
     std::vector<Mesh> attempt = start;
     LayeringRecord record;
     std::vector<std::vector<std::uint32_t>> input_vertex;

@@ -84,10 +84,28 @@ Mesh piece_mesh(const Mesh& mesh, const Piece& piece, Role role) {
 
 }  // namespace
 
-bool layered_scene(const std::vector<Mesh>& meshes) {
+bool worth_layering(const std::vector<Mesh>& input, const std::vector<Mesh>& kept, int threads) {
   bool obstacle = false;
-  for (const Mesh& m : meshes) obstacle = obstacle || (m.role == Role::kObstacle && !m.triangles.empty());
-  return obstacle && pieces_of(meshes).size() >= 2;
+  std::size_t movable = 0;
+  for (const Mesh& m : input) {
+    obstacle = obstacle || (m.role == Role::kObstacle && !m.triangles.empty());
+    movable += m.role == Role::kMovable ? 1 : 0;
+  }
+  if (!obstacle || pieces_of(input).size() < 2) return false;
+  if (movable > 1) return true;
+  // One movable mesh: its repair alone is the attempt kept, so only pieces crossing there leave
+  // something to lay.
+  const Intersections found = detect_as_check(kept, threads);
+  const SceneTopology topo = build_topology(kept);
+  for (const Crossing& c : found.crossings) {
+    if (kept[c.edge_mesh].role != Role::kMovable || kept[c.face_mesh].role != Role::kMovable)
+      continue;
+    const std::uint32_t a = topo.vertex_component[topo.welded[c.edge_mesh][c.edge_v0]];
+    const std::uint32_t b =
+        topo.vertex_component[topo.welded[c.face_mesh][kept[c.face_mesh].triangles[c.face][0]]];
+    if (a != b) return true;
+  }
+  return false;
 }
 
 FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
