@@ -462,7 +462,8 @@ Mesh soup_of(const std::vector<Mesh>& meshes) {
   for (const Mesh& m : meshes) {
     const auto base = static_cast<std::uint32_t>(soup.positions.size());
     soup.positions.insert(soup.positions.end(), m.positions.begin(), m.positions.end());
-    for (const Triangle& t : m.triangles) soup.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+    for (const Triangle& t : m.triangles)
+      soup.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
   }
   return soup;
 }
@@ -530,12 +531,14 @@ TEST(Quality, GarmentsWornTogetherAreLaidOneOverTheOther) {
   EXPECT_EQ(soup_pairs(soup_of({laid.shirt, laid.dress}), obstacle), 0u);
   EXPECT_EQ(cgal_reference::inside_count(laid.shirt, obstacle), 0u);
   EXPECT_EQ(cgal_reference::inside_count(laid.dress, obstacle), 0u);
-  for (const auto& [in, out] : {std::pair{&shirt_in, &laid.shirt}, std::pair{&dress_in, &laid.dress}}) {
+  for (const auto& [in, out] :
+       {std::pair{&shirt_in, &laid.shirt}, std::pair{&dress_in, &laid.dress}}) {
     const Shape shape = shape_change(*in, *out);
     EXPECT_EQ(shape.flipped, 0u);
     EXPECT_LE(shape.stretch, 1.5);
   }
-  EXPECT_LT(shape_change(dress_in, laid.dress).stretch, shape_change(dress_in, direct.dress).stretch);
+  EXPECT_LT(shape_change(dress_in, laid.dress).stretch,
+            shape_change(dress_in, direct.dress).stretch);
 
   // Listed the other way round: the same positions, bit for bit.
   TempDir swapped_dir;
@@ -558,7 +561,8 @@ TEST(Quality, GarmentsWornTogetherAreLaidOneOverTheOther) {
       if (d > 0.0) by_move.emplace_back(d, v);
     }
     std::sort(by_move.begin(), by_move.end());
-    for (std::size_t k = 0; k < 4 && k < by_move.size(); ++k) moved.emplace_back(g, by_move[k].second);
+    for (std::size_t k = 0; k < 4 && k < by_move.size(); ++k)
+      moved.emplace_back(g, by_move[k].second);
   }
   ASSERT_EQ(moved.size(), 8u);
   TempDir pinned_dir;

@@ -88,17 +88,19 @@ struct FixOptions {
   // ratio when both are beyond the bounds. Region method only (the paper method is the paper's
   // DRN alone).
   bool continuation = false;
-  // Garments worn together (DESIGN §5, "Layers"): when the kept attempt is unresolved, or clean
-  // but beyond `bounds`, and the scene has two or more movable meshes and an obstacle, the repair
-  // runs once more from the input, one garment at a time: each alone on the obstacles; then, from
-  // the garment nearest the obstacles (median distance of its vertices) outward, each laid over
-  // the ones inside it, which stand as obstacles flattened onto the obstacles' surface and grow
-  // back to their places in steps (the continuation's steps), the garment repaired and relaxed
-  // toward its input shape after each. Kept as the continuation is (clean and better). Region
-  // method only.
+  // Garments worn together (DESIGN §5, "Layering"): when the kept attempt is unresolved, or clean
+  // but beyond `bounds`, and the scene has an obstacle and two or more layers (edge-connected
+  // pieces of the movable meshes: a top and trousers in one file are two; a single movable mesh
+  // only when two of its pieces cross in the kept attempt), the repair runs once more from the
+  // input: each movable mesh alone on the obstacles; then, from the layer nearest the obstacles
+  // (median distance of its vertices) outward, each laid over the ones inside it, which stand as
+  // obstacles flattened onto the obstacles' surface and grow back to their places in the
+  // continuation's steps, the layer repaired and relaxed after each toward the shape it had
+  // alone. Kept as the continuation is (clean and better). Region method only; `simulate`'s
+  // corrections leave it out.
   bool layering = true;
-  // What `distorted` means to the continuation's and the layering's trigger and choice (the CLI passes its
-  // --max-stretch, --max-flips and --max-move).
+  // What `distorted` means to the continuation's and the layering's trigger and choice (the CLI
+  // passes its --max-stretch, --max-flips and --max-move).
   QualityBounds bounds;
   int threads = 0;
 };

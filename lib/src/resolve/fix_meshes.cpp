@@ -65,9 +65,9 @@ double largest_stretch(const FixResult& r) {
 }
 
 // Whether `a` (the continuation or the layering) is better than `b` (the attempt kept so far); a
-// tie keeps `b`. An unresolved continuation or layering is never kept: its steps were each no worse than their own start,
-// not than the input, so it could leave more crossings of a kind or a vertex moved further than
-// an unresolved run may write (FixOptions::max_written_move).
+// tie keeps `b`. An unresolved continuation or layering is never kept: its steps were each no worse
+// than their own start, not than the input, so it could leave more crossings of a kind or a vertex
+// moved further than an unresolved run may write (FixOptions::max_written_move).
 bool better(const FixResult& a, const FixResult& b, const QualityBounds& bounds) {
   const int ra = rank(a, bounds), rb = rank(b, bounds);
   if (ra == 2) return false;
@@ -162,9 +162,8 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
 
   // Retries and the continuation start from the input again: keep it while there may be one.
   const bool may_layer = options.layering && options.method == FixMethod::kRegion;
-  const std::vector<Mesh> start = options.retries > 0 || options.continuation || may_layer
-                                      ? work
-                                      : std::vector<Mesh>{};
+  const std::vector<Mesh> start =
+      options.retries > 0 || options.continuation || may_layer ? work : std::vector<Mesh>{};
   bool cancelled = false;
   const FixProgress watch = [&](const IterationRecord& record) {
     if (progress && !progress(record)) cancelled = true;

@@ -27,9 +27,9 @@ double mean_edge(const Mesh& mesh) {
 // file are two), with its triangles renumbered over its own vertices.
 struct Piece {
   std::uint32_t mesh = 0;
-  std::vector<std::uint32_t> vertices;    // input indices, ascending
-  std::vector<Triangle> triangles;        // over `vertices`
-  std::vector<std::uint32_t> polygon;     // per triangle, its source face
+  std::vector<std::uint32_t> vertices;  // input indices, ascending
+  std::vector<Triangle> triangles;      // over `vertices`
+  std::vector<std::uint32_t> polygon;   // per triangle, its source face
 };
 
 // The pieces of the movable meshes, in mesh order, then component order; welded by the input's
@@ -41,7 +41,9 @@ std::vector<Piece> pieces_of(const std::vector<Mesh>& meshes) {
     if (meshes[m].role != Role::kMovable) continue;
     std::vector<std::uint32_t> piece_of_component(topo.component_mesh.size(), kNone);
     std::vector<std::uint32_t> local(meshes[m].positions.size(), kNone);
-    const auto component = [&](std::uint32_t v) { return topo.vertex_component[topo.welded[m][v]]; };
+    const auto component = [&](std::uint32_t v) {
+      return topo.vertex_component[topo.welded[m][v]];
+    };
     for (std::uint32_t v = 0; v < meshes[m].positions.size(); ++v) {
       std::uint32_t& piece = piece_of_component[component(v)];
       if (piece == kNone) {
@@ -59,7 +61,8 @@ std::vector<Piece> pieces_of(const std::vector<Mesh>& meshes) {
       if (component(tri[1]) != c || component(tri[2]) != c) continue;
       Piece& piece = pieces[piece_of_component[c]];
       piece.triangles.push_back({local[tri[0]], local[tri[1]], local[tri[2]]});
-      piece.polygon.push_back(t < mesh.polygon.size() ? mesh.polygon[t] : static_cast<std::uint32_t>(t));
+      piece.polygon.push_back(t < mesh.polygon.size() ? mesh.polygon[t]
+                                                      : static_cast<std::uint32_t>(t));
     }
   }
   std::vector<Piece> kept;
@@ -182,7 +185,8 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
       const std::vector<std::uint32_t>* to_input =
           pieces[k].mesh < input_vertex.size() ? &input_vertex[pieces[k].mesh] : nullptr;
       for (std::uint32_t v : pieces[k].vertices)
-        lowest[k] = std::min(lowest[k], to_input != nullptr && v < to_input->size() ? (*to_input)[v] : v);
+        lowest[k] =
+            std::min(lowest[k], to_input != nullptr && v < to_input->size() ? (*to_input)[v] : v);
     }
     for (std::size_t k = 0; k < pieces.size(); ++k)
       for (std::size_t i = 0; i < pieces.size(); ++i)
@@ -216,7 +220,8 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
     PinMask scene_pins(1);
     const std::vector<std::uint8_t> mesh_pins = pins_of(piece.mesh);
     if (!mesh_pins.empty())
-      for (std::uint32_t v : piece.vertices) scene_pins[0].push_back(v < mesh_pins.size() ? mesh_pins[v] : 0);
+      for (std::uint32_t v : piece.vertices)
+        scene_pins[0].push_back(v < mesh_pins.size() ? mesh_pins[v] : 0);
     for (std::size_t i = 0; i < k; ++i) {
       const Piece& inner = pieces[order[i]];
       scene.push_back(piece_mesh(meshes[inner.mesh], inner, Role::kObstacle));
@@ -275,7 +280,8 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
   record.clean = result.clean;
   record.crossings = after.counts.crossings;
   record.inside_vertices = after.counts.inside_vertices;
-  for (const QualityStats& q : result.quality) record.max_stretch = std::max(record.max_stretch, q.max_stretch);
+  for (const QualityStats& q : result.quality)
+    record.max_stretch = std::max(record.max_stretch, q.max_stretch);
   return result;
 }
 
