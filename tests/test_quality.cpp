@@ -515,6 +515,9 @@ TEST(Quality, GarmentsWornTogetherAreLaidOneOverTheOther) {
   EXPECT_TRUE(l["kept"].get<bool>());
   EXPECT_TRUE(l["clean"].get<bool>());
   EXPECT_EQ(laid.report["history"].back()["stage"], 5);
+  // The body's own crossings (toes, lips) are the body's, whichever attempt was kept.
+  EXPECT_GT(direct.report["obstacles"]["crossing_pairs"].get<int>(), 0);
+  EXPECT_EQ(laid.report["obstacles"], direct.report["obstacles"]);
   // Four layers, each piece of each garment once, nearest the body first.
   const auto& layers = l["layers"];
   ASSERT_EQ(layers.size(), 4u);

@@ -234,8 +234,12 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
       record.kept = true;
       ContinuationRecord continued = std::move(result.continuation);  // set aside, still reported
       continued.kept = false;
+      // A fact of the obstacles, which the layering leaves as they are (its repairs count the
+      // inner layers among the obstacles).
+      const std::size_t obstacle_pairs = result.obstacle_crossing_pairs;
       adopt(r, attempt, options.clearance, result, work);
       result.continuation = std::move(continued);
+      result.obstacle_crossing_pairs = obstacle_pairs;
     } else {
       add_times(r, result);
     }

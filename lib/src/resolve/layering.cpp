@@ -140,6 +140,8 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
     add_times(r, result);
     result.relax_sweeps += r.relax_sweeps;
     result.relaxed_vertices += r.relaxed_vertices;
+    result.illegal_regions_by_inside += r.illegal_regions_by_inside;
+    result.illegal_regions_by_area += r.illegal_regions_by_area;
     last_iterations = r.iterations;
   };
 
