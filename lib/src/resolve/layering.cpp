@@ -260,8 +260,9 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
     }
     plan.steps = continuation_steps(plan.largest_shrink, plan.movable_edge);
     // Each step relaxes toward the shape the piece had alone on the obstacles, not toward its
-    // input: the input lies through the obstacles, and relaxed toward it, female_sportsuit01 over
-    // female_casualsuit01 on their body ended with 15 crossings, where this ends clean.
+    // input: the input lies through the obstacles. Measured with whole garments as the layers,
+    // relaxed toward its input female_sportsuit01 over female_casualsuit01 on their body kept 15
+    // crossings, relaxed toward its shape alone it ended clean.
     const FixResult r =
         run_continuation(scene, plan, alone, scene_pins, round, watch, layer.runs, 5);
     take(r);
