@@ -4,24 +4,18 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
 
 #include "geometry/vec3.h"
 #include "resolve/continuation.h"
 #include "resolve/repair_loop.h"
-#include "resolve/triangle_tree.h"
+#include "resolve/surface_queries.h"
 #include "topology/scene_topology.h"
+#include "untangle/mesh_info.h"
 
 namespace untangle {
 namespace {
-
-// The mean length of the mesh's welded edges.
-double mean_edge(const Mesh& mesh) {
-  const SceneTopology topo = build_topology({mesh});
-  double sum = 0.0;
-  for (const auto& e : topo.edges) sum += norm(sub(topo.points[e[0]], topo.points[e[1]]));
-  return topo.edges.empty() ? 0.0 : sum / static_cast<double>(topo.edges.size());
-}
 
 // One layer: an edge-connected component of a movable mesh (a top and the trousers of one garment
 // file are two), with its triangles renumbered over its own vertices.
@@ -32,10 +26,10 @@ struct Piece {
   std::vector<std::uint32_t> polygon;   // per triangle, its source face
 };
 
-// The pieces of the movable meshes, in mesh order, then component order; welded by the input's
-// positions (as the repair welds them), components without a triangle left out.
-std::vector<Piece> pieces_of(const std::vector<Mesh>& meshes) {
-  const SceneTopology topo = build_topology(meshes);
+// The pieces of the movable meshes, in mesh order, then component order; welded as `topo` (built
+// from `meshes` at their input positions, as the repair welds them), components without a
+// triangle left out.
+std::vector<Piece> pieces_of(const SceneTopology& topo, const std::vector<Mesh>& meshes) {
   std::vector<Piece> pieces;
   for (std::uint32_t m = 0; m < meshes.size(); ++m) {
     if (meshes[m].role != Role::kMovable) continue;
@@ -94,7 +88,7 @@ bool worth_layering(const std::vector<Mesh>& input, const std::vector<Mesh>& kep
     obstacle = obstacle || (m.role == Role::kObstacle && !m.triangles.empty());
     movable += m.role == Role::kMovable ? 1 : 0;
   }
-  if (!obstacle || pieces_of(input).size() < 2) return false;
+  if (!obstacle || pieces_of(build_topology(input), input).size() < 2) return false;
   if (movable > 1) return true;
   // One movable mesh: its repair alone is the attempt kept, so only pieces crossing there leave
   // something to lay.
@@ -162,22 +156,17 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
   }
 
   // 2. The pieces, nearest the obstacles first: the median distance of a piece's vertices to them.
-  TreeTriangleList triangles;
-  for (std::uint32_t o : obstacles)
-    for (const Triangle& t : meshes[o].triangles) {
-      const Vec3 &a = meshes[o].positions[t[0]], &b = meshes[o].positions[t[1]],
-                 &c = meshes[o].positions[t[2]];
-      triangles.emplace_back(TreeKernel::Point_3(a[0], a[1], a[2]),
-                             TreeKernel::Point_3(b[0], b[1], b[2]),
-                             TreeKernel::Point_3(c[0], c[1], c[2]));
-    }
-  TriangleTree tree(triangles.begin(), triangles.end());
-  tree.accelerate_distance_queries();
+  const SceneTopology topo = build_topology(input);
+  std::vector<std::uint32_t> obstacle_tris;
+  for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
+    if (meshes[topo.tri_mesh[t]].role == Role::kObstacle) obstacle_tris.push_back(t);
+  const std::unique_ptr<MeshTree> tree = build_tree(topo, obstacle_tris);
   const auto closest = [&](const Vec3& p) {
-    const auto q = tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
+    if (tree->triangles.empty()) return p;  // every obstacle triangle degenerate: nothing to lay on
+    const auto q = tree->tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
     return Vec3{q.x(), q.y(), q.z()};
   };
-  const std::vector<Piece> pieces = pieces_of(input);
+  const std::vector<Piece> pieces = pieces_of(topo, input);
   // Each piece as the report names it: its ordinal among its mesh's pieces by their lowest vertex
   // in the input's numbering (the pieces are found in the canonical one).
   std::vector<std::uint32_t> named(pieces.size(), 0);
@@ -253,7 +242,8 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
         if (length > 0.0) ++plan.shrunk_vertices;
       }
     }
-    plan.movable_edge = mean_edge(piece_mesh(input[piece.mesh], piece, Role::kMovable));
+    plan.movable_edge =
+        describe_mesh(piece_mesh(input[piece.mesh], piece, Role::kMovable)).mean_edge_length;
     if (!(plan.movable_edge > 0.0) || !(plan.largest_shrink > 0.0)) {
       record.layers.push_back(std::move(layer));
       continue;
