@@ -75,8 +75,7 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
   for (std::uint32_t v = 0; v < topo.points.size(); ++v) {
     if (inside[v] == kNone || !measures.free[v]) continue;
     const Vec3& p = topo.points[v];
-    const auto c = tree->tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
-    const Vec3 q{c.x(), c.y(), c.z()};
+    const Vec3 q = closest_on(*tree, p).point;
     const double depth = norm(sub(p, q));
     const double edge = measures.mean_edge[topo.vertex_mesh[v]];
     movable_edge = std::min(movable_edge, edge);

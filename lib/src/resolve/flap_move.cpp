@@ -121,12 +121,10 @@ void flap_move(const RepairContext& ctx, StepTools& tools, const CrossingSet& se
           return 0;
         }
         const Vec3& p = topo.points[v];
-        const auto hit =
-            tree.tree.closest_point_and_primitive(TreeKernel::Point_3(p[0], p[1], p[2]));
-        const std::uint32_t face =
-            tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
+        const Closest hit = closest_on(tree, p);
+        const std::uint32_t face = hit.face;
         const auto& f = topo.tris[face];
-        const Vec3 q{hit.first.x(), hit.first.y(), hit.first.z()};
+        const Vec3& q = hit.point;
         // A corner of the closest face lies on the other surface (a fold vertex shared by both
         // sides of a sheet).
         int result =

@@ -163,8 +163,7 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
   const std::unique_ptr<MeshTree> tree = build_tree(topo, obstacle_tris);
   const auto closest = [&](const Vec3& p) {
     if (tree->triangles.empty()) return p;  // every obstacle triangle degenerate: nothing to lay on
-    const auto q = tree->tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
-    return Vec3{q.x(), q.y(), q.z()};
+    return closest_on(*tree, p).point;
   };
   const std::vector<Piece> pieces = pieces_of(topo, input);
   // Each piece as the report names it: its ordinal among its mesh's pieces by their lowest vertex

@@ -94,11 +94,9 @@ std::vector<PartMoves> part_moves(const RepairContext& ctx, Scratch& scratch, st
     bool up_ok = true, down_ok = true, across_differs = false;
     for (std::size_t i = 0; i < n; ++i) {
       const Vec3& p = topo.points[part[i]];
-      const TreeKernel::Point_3 query(p[0], p[1], p[2]);
-      const auto hit = tree.tree.closest_point_and_primitive(query);
-      const Vec3 c{hit.first.x(), hit.first.y(), hit.first.z()};
-      const std::uint32_t face =
-          tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
+      const Closest hit = closest_on(tree, p);
+      const Vec3& c = hit.point;
+      const std::uint32_t face = hit.face;
       const Vec3 to = sub(c, p);
       Vec3 dir = unit(to);
       if (norm(to) == 0.0) dir = scale(face_normal(topo, face), orientation >= 0 ? 1.0 : -1.0);

@@ -126,10 +126,7 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   auto distance = [&](const Vec3& p) {
     return std::sqrt(obstacles->tree.squared_distance(TreeKernel::Point_3(p[0], p[1], p[2])));
   };
-  auto closest = [&](const Vec3& p) {
-    const auto c = obstacles->tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
-    return Vec3{c.x(), c.y(), c.z()};
-  };
+  auto closest = [&](const Vec3& p) { return closest_on(*obstacles, p).point; };
   std::vector<double> lower(part.size(), INFINITY);
   if (obstacles)
     for (std::size_t i = 0; i < part.size(); ++i) lower[i] = distance(topo.points[part[i]]);

@@ -26,6 +26,50 @@ std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
   return out;
 }
 
+Closest closest_on(const MeshTree& tree, const Vec3& p) {
+  const TreeKernel::Point_3 q(p[0], p[1], p[2]);
+  const auto hit = tree.tree.closest_point_and_primitive(q);
+  const std::size_t found = static_cast<std::size_t>(hit.second - tree.triangles.begin());
+  const Vec3 at{hit.first.x(), hit.first.y(), hit.first.z()};
+  // Inside its triangle, away from the corners and edges (by a millionth of a millionth of the
+  // edge), the point is the triangle's alone: another triangle as close would have to lie at the
+  // same distance across the gap, which only a symmetric scene gives.
+  const TreeKernel::Triangle_3& t = tree.triangles[found];
+  bool inside = true;
+  double longest2 = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const Vec3 a{t[k].x(), t[k].y(), t[k].z()};
+    const Vec3 b{t[(k + 1) % 3].x(), t[(k + 1) % 3].y(), t[(k + 1) % 3].z()};
+    const Vec3 edge = sub(b, a);
+    const double length2 = dot(edge, edge);
+    longest2 = std::max(longest2, length2);
+    inside = inside && norm(cross(edge, sub(at, a))) > 1e-12 * length2;
+  }
+  if (inside) return {at, tree.ids[found], CGAL::squared_distance(q, hit.first)};
+  // On a corner or an edge: the triangles holding that point (those whose boxes meet a box around
+  // it a millionth of the longest edge wide).
+  const double reach = 1e-6 * std::sqrt(longest2);
+  const CGAL::Bbox_3 box(at[0] - reach, at[1] - reach, at[2] - reach, at[0] + reach, at[1] + reach,
+                         at[2] + reach);
+  std::vector<TreePrimitive::Id> near;
+  tree.tree.all_intersected_primitives(box, std::back_inserter(near));
+  near.push_back(hit.second);
+  const auto project = TreeKernel().construct_projected_point_3_object();
+  Closest best;
+  best.squared = INFINITY;
+  bool any = false;
+  for (const auto& id : near) {
+    const std::uint32_t face = tree.ids[static_cast<std::size_t>(id - tree.triangles.begin())];
+    const TreeKernel::Point_3 c = project(*id, q);
+    const double squared = CGAL::squared_distance(q, c);
+    if (!any || squared < best.squared || (squared == best.squared && face < best.face)) {
+      best = {Vec3{c.x(), c.y(), c.z()}, face, squared};
+      any = true;
+    }
+  }
+  return best;
+}
+
 bool first_ray_hit(const MeshTree& tree, const Vec3& from, const Vec3& direction, Vec3& out) {
   if (tree.triangles.empty()) return false;
   const TreeKernel::Point_3 p(from[0], from[1], from[2]);
@@ -111,8 +155,7 @@ bool SurfaceTrees::nearest_obstacle_point(const Vec3& p, Vec3& out) {
     if (measures_.movable_component(topo_, c) || measures_.closed[c] == 0) continue;
     const MeshTree& tree = component_tree(c, unused);
     if (tree.triangles.empty()) continue;
-    const auto q = tree.tree.closest_point(TreeKernel::Point_3(p[0], p[1], p[2]));
-    const Vec3 point{q.x(), q.y(), q.z()};
+    const Vec3 point = closest_on(tree, p).point;
     const double d = norm(sub(p, point));
     if (d < best) {
       best = d;
@@ -140,11 +183,10 @@ std::vector<NearPoint> near_points(const SceneTopology& topo, const SceneMeasure
   for (std::uint32_t v = topo.mesh_vertex_begin[mesh]; v < topo.mesh_vertex_begin[mesh + 1]; ++v) {
     if (topo.vertex_component[v] != component) continue;
     const Vec3& p = topo.points[v];
-    const auto hit = tree.tree.closest_point_and_primitive(TreeKernel::Point_3(p[0], p[1], p[2]));
-    const Vec3 c{hit.first.x(), hit.first.y(), hit.first.z()};
+    const Closest hit = closest_on(tree, p);
+    const Vec3& c = hit.point;
     if (norm(sub(p, c)) > near) continue;
-    const std::uint32_t face =
-        tree.ids[static_cast<std::size_t>(hit.second - tree.triangles.begin())];
+    const std::uint32_t face = hit.face;
     const Vec3 n = oriented_normal(topo, measures, face);
     const double side = dot(sub(p, c), n);
     vote += side > 0 ? 1 : side < 0 ? -1 : 0;

@@ -27,6 +27,18 @@ using FreshTrees = std::map<std::uint32_t, std::unique_ptr<MeshTree>>;
 std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
                                      const std::vector<std::uint32_t>& tris);
 
+// The point of `tree` closest to `p`, the triangle it lies on (global id) and its squared
+// distance. Triangles equally close (the point at a corner or on an edge they share) give the
+// lowest id, and the point is projected onto that triangle here: CGAL's own answer is whichever
+// its traversal met first, and the traversal follows the coordinates, so a scene turned half round
+// an axis could be given another triangle (another normal, another side) and another point.
+struct Closest {
+  Vec3 point;
+  std::uint32_t face = 0;
+  double squared = 0.0;
+};
+Closest closest_on(const MeshTree& tree, const Vec3& p);
+
 // The first point where the ray from `from` along `direction` meets a triangle of `tree` in one
 // point (a ray in the plane of the triangle it meets first, which meets it along a segment, gives
 // none): false when it meets nothing. CGAL picks the triangle; the point is computed here from its
