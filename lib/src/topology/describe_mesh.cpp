@@ -1,12 +1,16 @@
 // describe_mesh: the topological facts `untangle info` prints.
+#include "topology/describe_mesh.h"
+
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <numeric>
 
+#include "geometry/order_free_sum.h"
 #include "geometry/vec3.h"
 #include "resolve/canonical_order.h"
-#include "topology/describe_mesh.h"
 #include "untangle/mesh_info.h"
 
 namespace untangle {
@@ -26,10 +30,21 @@ struct UnionFind {
   }
 };
 
+// The area of triangle (a, b, c) from its sides (Kahan's form of Heron's, accurate for needles
+// too): the same bits whichever corner the triangle starts at, as edge lengths are.
+double area_from_sides(const Vec3& a, const Vec3& b, const Vec3& c) {
+  std::array<double, 3> s{norm(sub(b, c)), norm(sub(c, a)), norm(sub(a, b))};
+  std::sort(s.begin(), s.end(), [](double x, double y) { return x > y; });
+  const double p = (s[0] + (s[1] + s[2])) * (s[2] - (s[0] - s[1])) * (s[2] + (s[0] - s[1])) *
+                   (s[0] + (s[1] - s[2]));
+  return p > 0.0 ? 0.25 * std::sqrt(p) : 0.0;
+}
+
 }  // namespace
 
-// On the canonical numbering detection uses (find_intersections), so that `info` and `check` give
-// the same figures, sums included, whatever the order of the file.
+// On the canonical numbering detection uses (find_intersections). The sums are order-free
+// (OrderFreeSum, areas from sides), so `info` on a mesh alone and `check` on a scene holding it
+// give the same figures whatever the order of the file and of the scene's tie-breaks.
 MeshInfo describe_mesh(const Mesh& mesh) {
   const Mesh canon = canonical(mesh).mesh;
   return describe_mesh_in(build_topology({canon}), 0, canon);
@@ -50,7 +65,7 @@ MeshInfo describe_mesh_in(const SceneTopology& topo, std::size_t m, const Mesh& 
 
   UnionFind components(last - first);
   std::vector<std::uint8_t> used(last - first, 0);
-  double edge_sum = 0.0;
+  OrderFreeSum edge_sum, area;
   for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t) {
     const auto& tri = topo.tris[t];
     for (std::uint32_t v : tri) used[v - first] = 1;
@@ -61,7 +76,7 @@ MeshInfo describe_mesh_in(const SceneTopology& topo, std::size_t m, const Mesh& 
                         K::Point_3(c[0], c[1], c[2]))) {
       ++info.zero_area_triangles;
     }
-    info.area += triangle_area(a, b, c);
+    area.add(area_from_sides(a, b, c));
   }
   for (std::uint32_t v = 0; v < last - first; ++v)
     if (used[v] && components.find(v) == v) ++info.components;
@@ -77,7 +92,7 @@ MeshInfo describe_mesh_in(const SceneTopology& topo, std::size_t m, const Mesh& 
   for (std::uint32_t e = edge_first; e < edge_last; ++e) {
     const std::array<std::uint32_t, 2> edge{topo.edges[e][0] - first, topo.edges[e][1] - first};
     const Vec3 &a = topo.points[topo.edges[e][0]], &b = topo.points[topo.edges[e][1]];
-    edge_sum += norm(sub(a, b));
+    edge_sum.add(norm(sub(a, b)));
     const std::size_t faces = topo.edge_face_count(e);
     if (faces >= 3) ++info.non_manifold_edges;
     if (faces == 1) {
@@ -90,7 +105,9 @@ MeshInfo describe_mesh_in(const SceneTopology& topo, std::size_t m, const Mesh& 
     if (on_boundary[v] && loops.find(v) == v) ++info.boundary_loops;
   const bool no_triangles = topo.mesh_tri_begin[m] == topo.mesh_tri_begin[m + 1];
   info.closed = info.boundary_edges == 0 && info.non_manifold_edges == 0 && !no_triangles;
-  if (edge_last > edge_first) info.mean_edge_length = edge_sum / static_cast<double>(edge_last - edge_first);
+  info.area = area.value();
+  if (edge_last > edge_first)
+    info.mean_edge_length = edge_sum.value() / static_cast<double>(edge_last - edge_first);
   return info;
 }
 
