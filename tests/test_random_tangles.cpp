@@ -413,9 +413,11 @@ FixOptions stages_only() {
 // Scenes without a self contour whose first stage stalls: the second stage, with only measured
 // steps and relaxed neighbourhoods on the contours between movable meshes, resolves them. (The
 // second stage once ran only for self contours; 102, 115 and 170 then ended with 12, 9 and 14
-// crossings. Seed 107 replaced 106 when the meshes' canonical order became topology only.)
+// crossings. Seed 107 replaced 106 when the meshes' canonical order became topology only; 104 and
+// 118 replaced 102 and 115, which the first stage now resolves, when the vertex order became free
+// of half turns: of seeds 0 to 299, 137 show the second stage this way.)
 TEST(RandomTangles, SecondStageResolvesWhatTheFirstLeaves) {
-  for (std::uint64_t seed : {102u, 107u, 115u, 170u}) {
+  for (std::uint64_t seed : {104u, 107u, 118u, 170u}) {
     const scenes::RandomTangle tangle = scenes::random_tangle(seed);
     SCOPED_TRACE(tangle.description);
     std::vector<Mesh> meshes = scenes::scene_meshes(tangle.scene);
@@ -439,9 +441,11 @@ TEST(RandomTangles, SecondStageResolvesWhatTheFirstLeaves) {
 // Scenes where both stages stall: the third starts from the best state either reached, with the
 // second stage's rules, and resolves them. Its first entry is that best count; before the third
 // stage 45, 79 and 223 ended with 65, 3 and 10 crossings. (Seed 52 replaced 163 when the meshes'
-// canonical order became topology only.)
+// canonical order became topology only. When the vertex order became free of half turns 45 and 223
+// no longer needed the third stage; 4, 5, 7 and 48 are the first of the 10 seeds below 300 that
+// do.)
 TEST(RandomTangles, ThirdStageResolvesFromTheBestState) {
-  for (std::uint64_t seed : {45u, 52u, 79u, 223u}) {
+  for (std::uint64_t seed : {4u, 5u, 7u, 48u}) {
     const scenes::RandomTangle tangle = scenes::random_tangle(seed);
     SCOPED_TRACE(tangle.description);
     std::vector<Mesh> meshes = scenes::scene_meshes(tangle.scene);
@@ -466,10 +470,14 @@ TEST(RandomTangles, ThirdStageResolvesFromTheBestState) {
 
 // An unresolved run relaxes the state it writes around what is left (DESIGN §5, *Relaxation*):
 // against the same run with the relaxation off, never a crossing or inside vertex more, never a
-// turned face more, and the worst edge nearer its input length. Before, these seeds wrote the
-// moves' shape: largest edge ratios 9.41, 4.52 and 3.10 (now 6.08, 2.87 and 1.81).
+// turned face more, and the worst edge nearer its input length. Before, seeds 42, 58 and 269 wrote
+// the moves' shape: largest edge ratios 9.41, 4.52 and 3.10 (then 6.08, 2.87 and 1.81). It does
+// not hold for every unresolved run: of seeds 0 to 299 (stages only, one thread) 15 end unresolved;
+// the worst edge gets nearer in 3 (these), stays as it was in 10 (it lies outside what is relaxed)
+// and 2 get worse (19: two turned faces more; 155: a worst edge of 3.99 where the moves left 1.00).
+// With vertices sorted by position, before 2026-12-06: 7, 6 and 4 of 17.
 TEST(RandomTangles, UnresolvedRunRelaxesWhatItWrites) {
-  for (std::uint64_t seed : {42u, 58u, 269u}) {
+  for (std::uint64_t seed : {65u, 269u, 299u}) {
     const scenes::RandomTangle tangle = scenes::random_tangle(seed);
     SCOPED_TRACE(tangle.description);
     std::vector<Mesh> relaxed = scenes::scene_meshes(tangle.scene), unrelaxed = relaxed;

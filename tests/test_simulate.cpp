@@ -111,8 +111,10 @@ TEST(Simulate, TheCorrectionRelaxesTowardTheRestShape) {
 
 // The sheet falls onto the ball: every frame ends with zero crossings (re-detected here, not taken
 // from the simulation's own count), no edge stretches beyond 2x, and the ball holds the sheet up:
-// its middle stays on the ball's top while its sides drape down (and still swing at the end: no
-// rest is asserted here, the box below does that).
+// its middle lies on the ball's surface, on its upper part, while its sides drape down. The
+// contact has no friction, so the sheet, dropped a little off centre, slides over the ball as it
+// settles: at frame 60 its middle is 0.24 (one vertex order) to 0.35 (another) from the top, and
+// its height there is not asserted.
 TEST(Simulate, SheetDropsOntoBallAndIsHeldByIt) {
   Simulation sim(sheet_over_ball(true));
   for (int f = 0; f < 60; ++f) {
@@ -123,10 +125,14 @@ TEST(Simulate, SheetDropsOntoBallAndIsHeldByIt) {
     ASSERT_EQ(crossings_with_obstacles(sim.meshes()), 0u) << "frame " << r.frame;
     EXPECT_LT(r.max_stretch, 2.0) << "frame " << r.frame;
   }
-  // The sheet's middle vertex (10, 10) on the ball's top (y = 0.5), within an edge length.
+  // The sheet's middle vertex (10, 10) on the ball's surface (radius 0.5 about (0.01, 0, -0.02);
+  // the 32 x 16 facets lie within 0.012 inside the sphere), outside it by less than an edge length
+  // (0.08), and within 60 degrees of its top (y above 0.25).
   const Vec3& middle = sim.meshes()[0].positions[10 * 21 + 10];
-  EXPECT_GT(middle[1], 0.5 - 0.08) << "the sheet's middle sank into the ball";
-  EXPECT_LT(middle[1], 0.5 + 0.08) << "the sheet's middle does not lie on the ball";
+  const double from_centre = norm(sub(middle, Vec3{0.01, 0.0, -0.02}));
+  EXPECT_GT(from_centre, 0.5 - 0.012) << "the sheet's middle sank into the ball";
+  EXPECT_LT(from_centre, 0.5 + 0.08) << "the sheet's middle does not lie on the ball";
+  EXPECT_GT(middle[1], 0.25) << "the sheet slid off the ball";
   EXPECT_LT(lowest_y(sim.meshes()[0]), 0.45) << "the sheet does not drape over the ball";
 }
 

@@ -5,19 +5,57 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <numeric>
 #include <tuple>
 #include <utility>
 
+#include "geometry/order_free_sum.h"
+
 namespace untangle {
 
-CanonicalMesh canonical(const Mesh& input) {
+namespace {
+
+// The mean of the vertices of `meshes`: the same whatever their order, and exactly turned with
+// them by a half turn about an axis (which negates two coordinates) and scaled with them by a power
+// of two (OrderFreeSum).
+Vec3 order_free_mean(const std::vector<const std::vector<Vec3>*>& meshes) {
+  Vec3 mean{0, 0, 0};
+  std::size_t count = 0;
+  for (const auto* positions : meshes) count += positions->size();
+  if (count == 0) return mean;
+  for (int axis = 0; axis < 3; ++axis) {
+    OrderFreeSum sum;
+    for (const auto* positions : meshes)
+      for (const Vec3& p : *positions) sum.add(p[axis]);
+    mean[axis] = sum.value() / static_cast<double>(count);
+  }
+  return mean;
+}
+
+// The squared distance of `p` from `centre`, its three terms added smallest first so that a
+// permutation of the axes gives the same bits.
+double squared_distance(const Vec3& p, const Vec3& centre) {
+  std::array<double, 3> terms;
+  for (int k = 0; k < 3; ++k) terms[k] = (p[k] - centre[k]) * (p[k] - centre[k]);
+  std::sort(terms.begin(), terms.end());
+  return (terms[0] + terms[1]) + terms[2];
+}
+
+}  // namespace
+
+CanonicalMesh canonical(const Mesh& input) { return canonical(input, nullptr); }
+
+CanonicalMesh canonical(const Mesh& input, const Vec3* scene_mean) {
   CanonicalMesh out;
   const std::size_t nv = input.positions.size();
-  // Vertices by position (x, then y, then z), equal positions by index. Sorted on integer keys
+  // Vertices by their distance from the mean of the mesh's vertices, then from the mean of the
+  // scene's (order_free_mean); equal in both (a symmetric mesh, mirrored in the scene too) by
+  // position, x, then y, then z; equal positions by index. Positions are compared on integer keys
   // that order as the doubles do (readers refuse NaN; -0.0 is keyed as 0.0, which it equals).
   struct VertexKey {
+    double distance, scene_distance;
     std::array<std::uint64_t, 3> position;
     std::uint32_t index;
   };
@@ -27,12 +65,19 @@ CanonicalMesh canonical(const Mesh& input) {
     std::memcpy(&bits, &x, sizeof bits);
     return bits >> 63 ? ~bits : bits | (std::uint64_t(1) << 63);
   };
+  const Vec3 centre = order_free_mean({&input.positions});
   std::vector<VertexKey> vertex_keys(nv);
   for (std::uint32_t i = 0; i < nv; ++i) {
     const Vec3& p = input.positions[i];
-    vertex_keys[i] = {{key_of(p[0]), key_of(p[1]), key_of(p[2])}, i};
+    const double distance = squared_distance(p, centre);
+    vertex_keys[i] = {distance,
+                      scene_mean != nullptr ? squared_distance(p, *scene_mean) : distance,
+                      {key_of(p[0]), key_of(p[1]), key_of(p[2])},
+                      i};
   }
   std::sort(vertex_keys.begin(), vertex_keys.end(), [](const VertexKey& a, const VertexKey& b) {
+    if (a.distance != b.distance) return a.distance < b.distance;
+    if (a.scene_distance != b.scene_distance) return a.scene_distance < b.scene_distance;
     if (a.position[0] != b.position[0]) return a.position[0] < b.position[0];
     if (a.position[1] != b.position[1]) return a.position[1] < b.position[1];
     if (a.position[2] != b.position[2]) return a.position[2] < b.position[2];
@@ -176,8 +221,11 @@ CanonicalScene canonical_scene(const std::vector<Mesh>& input,
   std::vector<std::vector<std::uint8_t>> canonical_pins(n);
   renumbered.reserve(n);
   keys.reserve(n);
+  std::vector<const std::vector<Vec3>*> all;
+  for (const Mesh& mesh : input) all.push_back(&mesh.positions);
+  const Vec3 scene_mean = order_free_mean(all);
   for (std::size_t m = 0; m < n; ++m) {
-    renumbered.push_back(canonical(input[m]));
+    renumbered.push_back(canonical(input[m], &scene_mean));
     if (m < pins.size() && !pins[m].empty()) {
       const auto& order = renumbered[m].vertex_order;
       canonical_pins[m].assign(order.size(), 0);

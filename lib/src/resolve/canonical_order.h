@@ -18,14 +18,22 @@ struct CanonicalMesh {
 
 // The repair sums moves, averages and breaks ties in index order, so its floating-point result
 // depends on the order of vertices and faces in the file. It therefore runs on a canonical
-// renumbering of every mesh: vertices sorted by position (exact duplicates, which weld into one
-// vertex and move together, by input index), each triangle rotated to start at its smallest
-// canonical corner (orientation kept) and triangles sorted by corners. The same geometry in any
-// vertex or face order then gives the same positions, bit for bit (tests/test_determinism.cpp).
+// renumbering of every mesh: vertices sorted by their distance from the mean of the mesh's
+// vertices, then (in a scene) from the mean of the scene's, then by position (x, y, z: only a
+// mesh symmetric in the scene too gets this far), exact duplicates (which weld into one vertex
+// and move together) by input index; each triangle rotated to start at its smallest canonical
+// corner (orientation kept) and triangles sorted by corners. The same geometry in any vertex or
+// face order then gives the same positions, bit for bit (tests/test_determinism.cpp). The means
+// are summed exactly, so the distances keep their bits when the scene is scaled by a power of two
+// or turned half round an axis (two coordinates negated): the order, and with it the repair, is
+// unit- and rotation-free there (tests/test_unit_free.cpp). A general rotation rounds every
+// coordinate; distances equal to the last bits may then swap.
 // Detection (`check`, fix's verdict) runs on it too: its symbolic perturbation orders points by
 // their ids, so degenerate configurations (shared positions, coplanar faces) would otherwise be
 // resolved one way in `check` and another in `fix` (tests/test_check_fix_agree.cpp).
 CanonicalMesh canonical(const Mesh& input);
+// The same, distances from the mesh's mean tied broken by the distance from `scene_mean`.
+CanonicalMesh canonical(const Mesh& input, const Vec3* scene_mean);
 
 // A scene with every mesh renumbered (canonical) and the meshes in canonical order.
 //

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <numeric>
 
 #include "check/summarize.h"
 #include "contour/build_contours.h"
@@ -21,8 +22,8 @@
 #include "detect/triangle_bvh.h"
 #include "resolve/inside_vertices.h"
 #include "resolve/measured_move.h"
-#include "resolve/quality_stats.h"
 #include "resolve/move_kinds.h"
+#include "resolve/quality_stats.h"
 #include "resolve/region_analysis.h"
 #include "resolve/relax_shape.h"
 #include "resolve/scene_measures.h"
@@ -414,8 +415,21 @@ class RepairLoop {
     // Inside an obstacle with no contour to move it (either method).
     inside_move(ctx, scratch_, trees_, set, inside_, in_moving_set, moves);
     if (region) {
-      for (const TracedContour& t : traced)
-        self_contour_move(ctx, tools, set, t, analysis, in_moving_set, moves);
+      // Self contours longest first (equal ones in the order they were walked, which follows the
+      // canonical numbering): a vertex moves for the first contour that claims it, so the order
+      // decides what moves where contours meet. In walk order, Wicke's crossing contours
+      // subdivided three times (symmetric: many contours of one length) ended clean within 5
+      // iterations under 8 of 8 jitters of 1e-7 with vertices sorted by position and 3 of 8 sorted
+      // by distance (turned as in the tests: 6 and 0); longest first, 8 of 8 in all four. Most
+      // crossings first did as well there but distorted female_elegantsuit01 on its body.
+      std::vector<std::uint32_t> longest_first(traced.size());
+      std::iota(longest_first.begin(), longest_first.end(), 0u);
+      std::stable_sort(longest_first.begin(), longest_first.end(),
+                       [&](std::uint32_t a, std::uint32_t b) {
+                         return traced[a].contour.length > traced[b].contour.length;
+                       });
+      for (std::uint32_t k : longest_first)
+        self_contour_move(ctx, tools, set, traced[k], analysis, in_moving_set, moves);
       separate_coincident_layers(ctx, trees_, set, traced, parallel, layered, layer_orders_,
                                  analysis, in_moving_set, moves);
       for (const TracedContour& t : traced)
