@@ -14,7 +14,9 @@
 #include "resolve/relax_shape.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <memory>
 
 #include "geometry/vec3.h"
@@ -123,13 +125,36 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
     own = build_tree(topo, obstacle_tris);
     obstacles = own.get();
   }
-  auto distance = [&](const Vec3& p) {
-    return std::sqrt(obstacles->tree.squared_distance(TreeKernel::Point_3(p[0], p[1], p[2])));
+  // One closest-point query answers both questions about a position (closest_on gives the point
+  // and its squared distance), and a sweep asks about the same positions again and again: a
+  // vertex's start in every pass, the same target in every pass that kept its goal and its step, a
+  // slide's distance and then its closest point. The answers of part[i]'s last kKnown positions
+  // are kept, keyed by the position's bits.
+  constexpr int kKnown = 4;
+  struct Known {
+    Vec3 at, closest;
+    double squared = 0.0;  // from `at` to `closest`
   };
-  auto closest = [&](const Vec3& p) { return closest_on(*obstacles, p).point; };
+  std::vector<std::array<Known, kKnown>> known(obstacles ? part.size() : 0);
+  std::vector<std::uint8_t> known_count(known.size(), 0), known_next(known.size(), 0);
+  auto known_of = [&](std::size_t i, const Vec3& p) -> const Known& {
+    std::array<Known, kKnown>& slots = known[i];
+    for (int k = 0; k < known_count[i]; ++k)
+      if (std::memcmp(slots[k].at.data(), p.data(), sizeof(Vec3)) == 0) return slots[k];
+    const Closest c = closest_on(*obstacles, p);
+    Known& slot = slots[known_next[i]];
+    slot.at = p;
+    slot.closest = c.point;
+    slot.squared = c.squared;
+    known_next[i] = static_cast<std::uint8_t>((known_next[i] + 1) % kKnown);
+    if (known_count[i] < kKnown) ++known_count[i];
+    return slot;
+  };
+  auto closest = [&](std::size_t i, const Vec3& p) { return known_of(i, p).closest; };
+  auto distance = [&](std::size_t i, const Vec3& p) { return std::sqrt(known_of(i, p).squared); };
   std::vector<double> lower(part.size(), INFINITY);
   if (obstacles)
-    for (std::size_t i = 0; i < part.size(); ++i) lower[i] = distance(topo.points[part[i]]);
+    for (std::size_t i = 0; i < part.size(); ++i) lower[i] = distance(i, topo.points[part[i]]);
 
   ShapeSolve solve(topo, in.input, part, in.threads);
   std::vector<double> strains;  // after each accepted sweep
@@ -160,7 +185,7 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
       if (!obstacles) continue;
       const double clearance = in.clearance[topo.vertex_mesh[v]];
       if (lower[i] > clearance + 2.0 * measures.vertex_edge[v]) continue;
-      const Vec3 q = closest(from[i]);
+      const Vec3 q = closest(i, from[i]);
       const double d = norm(sub(from[i], q));
       lower[i] = d;
       if (!(d > 0.0)) continue;
@@ -201,16 +226,16 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
         const double clearance = in.clearance[topo.vertex_mesh[v]];
         if (obstacles && lower[i] - step < clearance) {
           // lower[i] may be a bound from an earlier sweep: the slide below needs the distance.
-          lower[i] = distance(from[i]);
-          double next = distance(target);
+          lower[i] = distance(i, from[i]);
+          double next = distance(i, target);
           if (next < clearance && next < lower[i] && lower[i] > 0.0) {
-            const Vec3 n = scale(sub(from[i], closest(from[i])), 1.0 / lower[i]);
+            const Vec3 n = scale(sub(from[i], closest(i, from[i])), 1.0 / lower[i]);
             Vec3 d = sub(target, from[i]);
             const double toward = dot(d, n);
             if (toward < 0.0) d = sub(d, scale(n, toward));
             Vec3 slid = add(from[i], d);
             if (in.round) slid = in.round(slid);
-            const double there = distance(slid);
+            const double there = distance(i, slid);
             if (slid != from[i] && there >= std::min(clearance, lower[i])) {
               target = slid;
               next = there;
@@ -219,12 +244,12 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
               // than the clearance: the point under the slid one, lifted out by the clearance.
               // Without it the collar of male_casualsuit01 held where the repair left it, its
               // edges around the neck stretched 1.7 times.
-              const Vec3 q2 = closest(slid);
+              const Vec3 q2 = closest(i, slid);
               const Vec3 n2 = scale(sub(slid, q2), 1.0 / there);
               if (dot(n2, n) > 0.0) {
                 Vec3 lifted = add(q2, scale(n2, clearance));
                 if (in.round) lifted = in.round(lifted);
-                const double up = distance(lifted);
+                const double up = distance(i, lifted);
                 if (lifted != from[i] && up >= std::min(clearance, lower[i])) {
                   target = lifted;
                   next = up;
