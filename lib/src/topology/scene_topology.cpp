@@ -176,6 +176,20 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
   const std::size_t mesh_count = meshes.size();
   topo.welded.resize(mesh_count);
   topo.degenerate.assign(mesh_count, 0);
+  // Sized once for their largest possible length: grown by doubling, the body's arrays were
+  // copied and their pages first touched several times over (a fix builds the topology three
+  // times).
+  std::size_t positions = 0, triangles = 0;
+  for (const Mesh& mesh : meshes) {
+    positions += mesh.positions.size();
+    triangles += mesh.triangles.size();
+  }
+  topo.points.reserve(positions);
+  topo.vertex_mesh.reserve(positions);
+  topo.representative.reserve(positions);
+  topo.tris.reserve(triangles);
+  topo.tri_mesh.reserve(triangles);
+  topo.tri_source.reserve(triangles);
 
   // Weld per mesh: each group of equal positions becomes one welded vertex, numbered in order of
   // its smallest input index (an open-addressing table keyed by the coordinates' bits; -0.0 and
@@ -324,6 +338,9 @@ SceneTopology build_topology(const std::vector<Mesh>& meshes) {
   for (std::size_t v = 0; v < topo.points.size(); ++v)
     std::sort(records.begin() + bucket[v], records.begin() + bucket[v + 1]);
   topo.tri_edges.assign(topo.tris.size(), {kNone, kNone, kNone});
+  topo.edges.reserve(records.size());
+  topo.edge_face_begin.reserve(records.size() + 1);
+  topo.edge_faces.reserve(records.size());
   for (std::size_t i = 0; i < records.size(); ++i) {
     if (i == 0 || records[i].a != records[i - 1].a || records[i].b != records[i - 1].b) {
       topo.edges.push_back({records[i].a, records[i].b});
