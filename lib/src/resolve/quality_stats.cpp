@@ -72,12 +72,24 @@ std::vector<QualityStats> quality_stats(const SceneTopology& topo, const std::ve
 
 std::vector<QualityStats> measure_quality(const std::vector<Mesh>& input,
                                           const std::vector<Mesh>& output) {
-  SceneTopology topo = build_topology(input);
+  // Obstacles get zeros, and one mesh's welding and edges do not depend on the other meshes: they
+  // stand in the topology as empty meshes, so that a body is not welded and its edges listed for
+  // nothing (in `fix`, 27,300 triangles against the garment's 3,200).
+  std::vector<Mesh> movable(input.size());
+  for (std::size_t m = 0; m < input.size(); ++m) {
+    movable[m].role = input[m].role;
+    if (input[m].role != Role::kMovable) continue;
+    movable[m].positions = input[m].positions;
+    movable[m].triangles = input[m].triangles;
+  }
+  SceneTopology topo = build_topology(movable);
   const std::vector<Vec3> before = topo.points;
   std::vector<Role> role;
   for (std::size_t m = 0; m < input.size(); ++m) {
     role.push_back(input[m].role);
-    if (m >= output.size() || output[m].positions.size() != input[m].positions.size()) continue;
+    if (m >= output.size() || output[m].positions.size() != input[m].positions.size() ||
+        input[m].role != Role::kMovable)
+      continue;
     // Each welded vertex takes the output position of its smallest input vertex.
     for (std::uint32_t i = 0; i < input[m].positions.size(); ++i) {
       const std::uint32_t v = topo.welded[m][i];
