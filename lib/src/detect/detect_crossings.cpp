@@ -299,6 +299,9 @@ Vec3 crossing_point(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b, 
 namespace {
 
 constexpr std::size_t kParts = 64;    // parts per descent of two hierarchies (for_each_candidate)
+// update_crossings finds a mesh's own pairs by parts (retested among themselves, retested with the
+// rest) when at least 1 / kWholeMeshShare of the mesh's triangles are retested.
+constexpr std::size_t kWholeMeshShare = 4;
 
 // The broad phase: `visit(part, t, u, sides)` for every candidate pair (t, u) (t < u) whose closed
 // boxes overlap and that share at most one vertex, each pair once, t or u a triangle of a tested
@@ -561,27 +564,71 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
         return (*settings.skipped_planes)[t];
       return tri_plane(topo.points, tris[t]);
     };
-    std::vector<const TriangleBvh*> others;
-    for (std::size_t m = 0; m < meshes; ++m)
-      if (const TriangleBvh* tree = hierarchy.mesh(m)) others.push_back(tree);
-    if (settings.skipped_bvh != nullptr) others.push_back(settings.skipped_bvh);
+    // Where many of a mesh's triangles are retested (a relaxation's sweep moves a third of a
+    // garment), the pairs among them cost the most, and the retested tree against the mesh's own
+    // finds each of them twice (once from either triangle). There the mesh's pairs are found as
+    // the retested triangles' own pairs, once each (a descent of their tree with itself), and
+    // their pairs with the mesh's other triangles (a tree over those); the other meshes' trees
+    // are descended with a tree of the retested triangles of other meshes. The same pairs either
+    // way (a pair is found when its triangles' boxes overlap), so the same crossings.
+    std::vector<std::vector<std::uint32_t>> retest_of(meshes);
+    for (const std::uint32_t t : retest) retest_of[topo.tri_mesh[t]].push_back(t);
+    std::vector<std::uint8_t> by_parts(meshes, 0);
+    for (std::size_t m = 0; m < meshes; ++m) {
+      const std::size_t size = topo.mesh_tri_begin[m + 1] - topo.mesh_tri_begin[m];
+      by_parts[m] = hierarchy.mesh(m) != nullptr && settings.self_pairs && !skipped(m) &&
+                    kWholeMeshShare * retest_of[m].size() >= size;
+    }
+    std::vector<std::unique_ptr<TriangleBvh>> trees;  // built here for this update
+    struct Descent {
+      const TriangleBvh* a;
+      const TriangleBvh* b;
+      bool self;         // b is a: each pair once
+      bool from_shared;  // b is the skipped meshes' shared tree
+    };
+    std::vector<Descent> descents;
+    const bool shared_tree = settings.skipped_bvh != nullptr;
+    for (std::size_t m = 0; m < meshes; ++m) {
+      const TriangleBvh* tree = hierarchy.mesh(m);
+      if (tree == nullptr) continue;
+      if (!by_parts[m]) {
+        descents.push_back({&moved_tree, tree, false, false});
+        continue;
+      }
+      trees.push_back(std::make_unique<TriangleBvh>(topo, retest_of[m]));
+      const TriangleBvh* own = trees.back().get();
+      descents.push_back({own, own, true, false});
+      std::vector<std::uint32_t> rest, others;
+      for (std::uint32_t t = topo.mesh_tri_begin[m]; t < topo.mesh_tri_begin[m + 1]; ++t)
+        if (!affected[t]) rest.push_back(t);
+      for (const std::uint32_t t : retest)
+        if (topo.tri_mesh[t] != m) others.push_back(t);
+      for (std::vector<std::uint32_t>* list : {&rest, &others}) {
+        if (list->empty()) continue;
+        trees.push_back(std::make_unique<TriangleBvh>(topo, *list));
+        descents.push_back(list == &rest ? Descent{own, trees.back().get(), false, false}
+                                         : Descent{trees.back().get(), tree, false, false});
+      }
+    }
+    if (shared_tree) descents.push_back({&moved_tree, settings.skipped_bvh, false, true});
     struct Job {
-      std::uint32_t other;
+      std::uint32_t descent;
       TriangleBvh::Part part;
     };
     std::vector<Job> jobs;
-    for (std::size_t k = 0; k < others.size(); ++k)
-      for (const TriangleBvh::Part& part : moved_tree.split(*others[k], false, kParts))
+    for (std::size_t k = 0; k < descents.size(); ++k)
+      for (const TriangleBvh::Part& part :
+           descents[k].a->split(*descents[k].b, descents[k].self, kParts))
         jobs.push_back({static_cast<std::uint32_t>(k), part});
     found.resize(jobs.size());
-    const bool shared_tree = settings.skipped_bvh != nullptr;
     run_parallel(settings.threads, jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
       for (std::size_t j = begin; j < end; ++j) {
-        const bool from_shared = shared_tree && jobs[j].other + 1 == others.size();
-        moved_tree.each_pair_in(*others[jobs[j].other], jobs[j].part, false,
-                                [&](std::uint32_t t, std::uint32_t u) {
+        const Descent& d = descents[jobs[j].descent];
+        d.a->each_pair_in(*d.b, jobs[j].part, d.self, [&](std::uint32_t x, std::uint32_t y) {
+          // t is the retested triangle (the lower of two in a descent with itself).
+          const std::uint32_t t = d.self ? std::min(x, y) : x, u = d.self ? std::max(x, y) : y;
           const std::uint32_t tm = topo.tri_mesh[t], um = topo.tri_mesh[u];
-          if (from_shared) {
+          if (d.from_shared) {
             if (skipped(tm)) return;
           } else {
             if (um == tm && !settings.self_pairs) return;
@@ -591,7 +638,8 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
           if (u == t || (affected[u] && u < t)) return;
           if (shared_vertices(tris[t], tris[u]) >= 2) return;
           PairSides sides;
-          if (surely_apart_at(topo.points, tris[t], tris[u], plane_of(t), plane_of(u), sides)) return;
+          if (surely_apart_at(topo.points, tris[t], tris[u], plane_of(t), plane_of(u), sides))
+            return;
           test_owned_edges(topo, t, u, sides.of_t, found[j]);
           test_owned_edges(topo, u, t, sides.of_u, found[j]);
         });
