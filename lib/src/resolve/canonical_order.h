@@ -32,7 +32,7 @@ struct CanonicalMesh {
 // their ids, so degenerate configurations (shared positions, coplanar faces) would otherwise be
 // resolved one way in `check` and another in `fix` (tests/test_check_fix_agree.cpp).
 CanonicalMesh canonical(const Mesh& input);
-// The same, distances from the mesh's mean tied broken by the distance from `scene_mean`.
+// The same, equal distances from the mesh's mean told apart by the distance from `scene_mean`.
 CanonicalMesh canonical(const Mesh& input, const Vec3* scene_mean);
 
 // A scene with every mesh renumbered (canonical) and the meshes in canonical order.
