@@ -22,7 +22,7 @@ void expect_same(const MeshInfo& a, const MeshInfo& b) {
   EXPECT_EQ(a.degenerate_triangles, b.degenerate_triangles);
   EXPECT_EQ(a.zero_area_triangles, b.zero_area_triangles);
   EXPECT_EQ(a.closed, b.closed);
-  EXPECT_EQ(a.area, b.area);  // bit for bit: the same sums in the same order
+  EXPECT_EQ(a.area, b.area);  // bit for bit: sums that do not depend on the numbering
   EXPECT_EQ(a.mean_edge_length, b.mean_edge_length);
 }
 
