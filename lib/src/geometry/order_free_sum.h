@@ -1,7 +1,9 @@
 // A sum of doubles that does not depend on the order of its terms: each term is kept exactly, by
 // exponent, and the whole is rounded once at the end. Negating every term negates the sum and
 // scaling every term by a power of two scales it, bit for bit; a plain running sum gives other last
-// bits for the same terms in another order (vertices of one mesh numbered otherwise).
+// bits for the same terms in another order (vertices of one mesh numbered otherwise). CGAL's Mpzf
+// (detect/orientation.cpp) sums exactly too, but its to_double rounds at 64-bit limb boundaries,
+// which a power-of-two scale moves, so the scaled scene's sum could differ in its last bit.
 #pragma once
 
 #include <algorithm>
