@@ -275,6 +275,16 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
       std::printf("): %s, %zu crossings, %zu inside, stretch %.3g%s\n",
                   l.clean ? "clean" : "unresolved", l.crossings, l.inside_vertices, l.max_stretch,
                   l.kept ? " (kept)" : " (not kept)");
+      if (l.orders.size() > 1) {
+        std::printf("layering orders tried:");
+        for (std::size_t k = 0; k < l.orders.size(); ++k) {
+          const untangle::LayeringOrderRecord& o = l.orders[k];
+          std::printf("%s by %s: %s, %zu crossings, %zu inside, stretch %.3g%s", k == 0 ? "" : ";",
+                      to_string(o.rule), o.clean ? "clean" : "unresolved", o.crossings,
+                      o.inside_vertices, o.max_stretch, o.kept ? " (kept)" : "");
+        }
+        std::printf("\n");
+      }
     }
     for (std::size_t k = 0; k < outputs.size(); ++k) std::printf("wrote %s\n", outputs[k].c_str());
     print_contacts(verified.counts);

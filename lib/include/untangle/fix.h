@@ -198,14 +198,34 @@ struct LayerRecord {
   bool clean = false;  // free of crossings with everything inside it and with itself
 };
 
+// How the layering orders the layers, innermost first.
+enum class LayerOrderRule {
+  kMedianDistance,  // by the median distance of their vertices to the obstacles
+  kOverlap,         // where two overlap, the one that would move less laid over the other outside
+};
+const char* to_string(LayerOrderRule rule);
+
+// One order the layering tried: its layers and the whole scene once every one was laid.
+struct LayeringOrderRecord {
+  LayerOrderRule rule = LayerOrderRule::kMedianDistance;
+  std::vector<LayerRecord> layers;  // innermost first
+  bool clean = false;
+  std::size_t crossings = 0, inside_vertices = 0;
+  double max_stretch = 1.0;
+  bool kept = false;  // the layering's result is this order's
+};
+
 // The layering (FixOptions::layering), when it ran.
 struct LayeringRecord {
   bool ran = false;
-  std::vector<LayerRecord> layers;  // innermost first
+  std::vector<LayerRecord> layers;  // innermost first, of the order kept
   bool clean = false;               // the whole scene, once every garment is laid
   std::size_t crossings = 0, inside_vertices = 0;
   double max_stretch = 1.0;
   bool kept = false;  // its positions are the result
+  // The orders tried: by median distance, and where that ends unresolved or beyond the bounds,
+  // by overlap too when it differs.
+  std::vector<LayeringOrderRecord> orders;
 };
 
 struct FixResult {

@@ -47,6 +47,20 @@ Json continuation_steps_json(const std::vector<ContinuationStep>& steps) {
   return runs;
 }
 
+Json layers_json(const std::vector<LayerRecord>& layers) {
+  Json all = Json::array();
+  for (const LayerRecord& layer : layers) {
+    Json one;
+    one["mesh"] = layer.mesh;
+    one["component"] = layer.component;
+    one["distance"] = layer.distance;
+    one["clean"] = layer.clean;
+    one["runs"] = continuation_steps_json(layer.runs);
+    all.push_back(one);
+  }
+  return all;
+}
+
 Json counts_json(const IntersectionCounts& c) {
   Json j;
   j["crossings"] = c.crossings;
@@ -213,22 +227,25 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   if (result.layering.ran) {
     const LayeringRecord& l = result.layering;
     Json e;
-    Json layers = Json::array();
-    for (const LayerRecord& layer : l.layers) {
-      Json one;
-      one["mesh"] = layer.mesh;
-      one["component"] = layer.component;
-      one["distance"] = layer.distance;
-      one["clean"] = layer.clean;
-      one["runs"] = continuation_steps_json(layer.runs);
-      layers.push_back(one);
-    }
-    e["layers"] = layers;
+    e["layers"] = layers_json(l.layers);
     e["clean"] = l.clean;
     e["crossings"] = l.crossings;
     e["inside_vertices"] = l.inside_vertices;
     e["max_stretch"] = l.max_stretch;
     e["kept"] = l.kept;
+    Json orders = Json::array();
+    for (const LayeringOrderRecord& o : l.orders) {
+      Json one;
+      one["rule"] = to_string(o.rule);
+      one["layers"] = layers_json(o.layers);
+      one["clean"] = o.clean;
+      one["crossings"] = o.crossings;
+      one["inside_vertices"] = o.inside_vertices;
+      one["max_stretch"] = o.max_stretch;
+      one["kept"] = o.kept;
+      orders.push_back(one);
+    }
+    e["orders"] = orders;
     j["layering"] = e;
   } else {
     j["layering"] = nullptr;

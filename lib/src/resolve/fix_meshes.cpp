@@ -35,22 +35,6 @@ Intersections detect_as_check(const std::vector<Mesh>& meshes, int threads,
   return find_intersections_reusing(meshes, detect, winding);
 }
 
-namespace {
-
-// Makes attempt `r` (its positions in `attempt`, run at `clearance`) the result: the retries
-// recorded so far (none kept any more), `before` and the times of every attempt carried over.
-void adopt(FixResult& r, std::vector<Mesh>& attempt, double clearance, FixResult& result,
-           std::vector<Mesh>& work) {
-  for (RetryRecord& earlier : result.retries) earlier.kept = false;
-  r.retries = std::move(result.retries);
-  r.before = result.before;
-  add_times(result, r);
-  r.clearance = clearance;
-  result = std::move(r);
-  work = std::move(attempt);
-}
-
-// How good a result is, lower better: clean within the bounds, clean, unresolved.
 int rank(const FixResult& r, const QualityBounds& bounds) {
   if (!r.clean) return 2;
   for (const QualityStats& q : r.quality)
@@ -64,16 +48,27 @@ double largest_stretch(const FixResult& r) {
   return s;
 }
 
-// Whether `a` (the continuation or the layering) is better than `b` (the attempt kept so far); a
-// tie keeps `b`. An unresolved continuation or layering is never kept: its steps were each no worse
-// than their own start, not than the input, so it could leave more crossings of a kind or a vertex
-// moved further than an unresolved run may write (FixOptions::max_written_move).
 bool better(const FixResult& a, const FixResult& b, const QualityBounds& bounds) {
   const int ra = rank(a, bounds), rb = rank(b, bounds);
   if (ra == 2) return false;
   if (ra != rb) return ra < rb;
   if (ra == 1) return largest_stretch(a) < largest_stretch(b);
   return false;
+}
+
+namespace {
+
+// Makes attempt `r` (its positions in `attempt`, run at `clearance`) the result: the retries
+// recorded so far (none kept any more), `before` and the times of every attempt carried over.
+void adopt(FixResult& r, std::vector<Mesh>& attempt, double clearance, FixResult& result,
+           std::vector<Mesh>& work) {
+  for (RetryRecord& earlier : result.retries) earlier.kept = false;
+  r.retries = std::move(result.retries);
+  r.before = result.before;
+  add_times(result, r);
+  r.clearance = clearance;
+  result = std::move(r);
+  work = std::move(attempt);
 }
 
 // Crossings by kind (against an obstacle, of a mesh with itself, between two movable meshes) and
@@ -230,6 +225,8 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     FixResult r = run_layering(attempt, options, work_pins, round, watch, input_vertex, record);
     record.ran = true;
     for (LayerRecord& layer : record.layers) layer.mesh = scene.mesh_order[layer.mesh];
+    for (LayeringOrderRecord& order : record.orders)
+      for (LayerRecord& layer : order.layers) layer.mesh = scene.mesh_order[layer.mesh];
     if (!cancelled && better(r, result, options.bounds)) {
       record.kept = true;
       ContinuationRecord continued = std::move(result.continuation);  // set aside, still reported

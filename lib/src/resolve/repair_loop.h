@@ -26,9 +26,6 @@ FixResult run_repair(std::vector<Mesh>& meshes, const FixOptions& options, const
                      std::vector<MeshInfo>* described = nullptr,
                      std::shared_ptr<const ObstacleWinding>* winding = nullptr);
 
-// fix_meshes (fix.h) whose relaxation moves toward `rest` (per mesh, per input vertex; an
-// obstacle's entry its positions now) in place of the input's shape: the simulation's correction,
-// whose input is a step's end and whose cloth has a rest shape of its own. Null: fix_meshes.
 // Adds the times of `from` to those of `to` (the attempts of one run share its clock).
 void add_times(const FixResult& from, FixResult& to);
 
@@ -38,6 +35,21 @@ void add_times(const FixResult& from, FixResult& to);
 Intersections detect_as_check(const std::vector<Mesh>& meshes, int threads,
                               const ObstacleWinding* winding = nullptr);
 
+// How good a result is, lower better: 0 clean within `bounds`, 1 clean, 2 unresolved.
+int rank(const FixResult& r, const QualityBounds& bounds);
+
+// The largest edge-length ratio of a result's meshes (1 without any).
+double largest_stretch(const FixResult& r);
+
+// Whether `a` (the continuation or the layering) is better than `b` (the attempt kept so far); a
+// tie keeps `b`. An unresolved continuation or layering is never kept: its steps were each no worse
+// than their own start, not than the input, so it could leave more crossings of a kind or a vertex
+// moved further than an unresolved run may write (FixOptions::max_written_move).
+bool better(const FixResult& a, const FixResult& b, const QualityBounds& bounds);
+
+// fix_meshes (fix.h) whose relaxation moves toward `rest` (per mesh, per input vertex; an
+// obstacle's entry its positions now) in place of the input's shape: the simulation's correction,
+// whose input is a step's end and whose cloth has a rest shape of its own. Null: fix_meshes.
 FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
                             const std::vector<std::vector<Vec3>>* rest, const FixOptions& options,
                             const PinMask& pins, const std::function<Vec3(const Vec3&)>& round,
