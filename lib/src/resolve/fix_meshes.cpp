@@ -58,17 +58,32 @@ bool better(const FixResult& a, const FixResult& b, const QualityBounds& bounds)
 
 namespace {
 
-// Makes attempt `r` (its positions in `attempt`, run at `clearance`) the result: the retries
-// recorded so far (none kept any more), `before` and the times of every attempt carried over.
+// Makes attempt `r` (its positions in `attempt`, run at `clearance`) the result: the retries, the
+// continuation and the layering recorded so far (none kept any more), `before` and the times of
+// every attempt carried over.
 void adopt(FixResult& r, std::vector<Mesh>& attempt, double clearance, FixResult& result,
            std::vector<Mesh>& work) {
   for (RetryRecord& earlier : result.retries) earlier.kept = false;
   r.retries = std::move(result.retries);
+  // The continuation and the layering tried before, still reported, no longer kept.
+  if (!r.continuation.ran) {
+    r.continuation = std::move(result.continuation);
+    r.continuation.kept = false;
+  }
+  if (!r.layering.ran) {
+    r.layering = std::move(result.layering);
+    r.layering.kept = false;
+  }
   r.before = result.before;
   add_times(result, r);
   r.clearance = clearance;
   result = std::move(r);
   work = std::move(attempt);
+}
+
+std::size_t movable_meshes(const std::vector<Mesh>& meshes) {
+  return static_cast<std::size_t>(std::count_if(
+      meshes.begin(), meshes.end(), [](const Mesh& m) { return m.role == Role::kMovable; }));
 }
 
 // Crossings by kind (against an obstacle, of a mesh with itself, between two movable meshes) and
@@ -169,6 +184,53 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
   FixResult result =
       run_repair(work, options, work_pins, round, watch, toward, &described, &winding);
   result.clearance = options.clearance;
+  // The layering (layering.h): run at most once, from the input, where the attempt kept so far
+  // is not good, and offered once.
+  struct Laid {
+    bool ran = false, offered = false;
+    std::vector<Mesh> attempt;
+    FixResult result;
+    LayeringRecord record;
+  } laid;
+  const auto lay_garments = [&] {
+    laid.ran = true;
+    laid.attempt = start;
+    std::vector<std::vector<std::uint32_t>> input_vertex;
+    for (const CanonicalMesh& c : scene.renumbering) input_vertex.push_back(c.vertex_order);
+    laid.result =
+        run_layering(laid.attempt, options, work_pins, round, watch, input_vertex, laid.record);
+    laid.record.ran = true;
+    for (LayerRecord& layer : laid.record.layers) layer.mesh = scene.mesh_order[layer.mesh];
+    for (LayeringOrderRecord& order : laid.record.orders)
+      for (LayerRecord& layer : order.layers) layer.mesh = scene.mesh_order[layer.mesh];
+  };
+  // Kept where better than the attempt kept so far, reported either way.
+  const auto offer_layering = [&] {
+    laid.offered = true;
+    if (!cancelled && better(laid.result, result, options.bounds)) {
+      laid.record.kept = true;
+      // A fact of the obstacles, which the layering leaves as they are (its repairs count the
+      // inner layers among the obstacles).
+      const std::size_t obstacle_pairs = result.obstacle_crossing_pairs;
+      adopt(laid.result, laid.attempt, options.clearance, result, work);
+      result.obstacle_crossing_pairs = obstacle_pairs;
+    } else {
+      add_times(laid.result, result);
+    }
+    result.layering = std::move(laid.record);
+  };
+  // Garments worn together, left unresolved: laid before the retries, which each repair the same
+  // scene (thousands of crossings between two garments) with a larger gap. Where the layering
+  // ends clean within the bounds it is kept and no retry runs; otherwise the retries run as
+  // without it and the layering is offered after them, so the result is the better of the two
+  // as before. Measured on the six pairs of MakeHuman garments on their bodies: the same files,
+  // and the two pairs laid within the bounds 30% faster.
+  if (may_layer && options.retries > 0 && !result.clean && !cancelled &&
+      movable_meshes(start) > 1 && worth_layering(start, work, options.threads)) {
+    lay_garments();
+    if (rank(laid.result, options.bounds) == 0) offer_layering();
+  }
+
   FixOptions retry = options;
   const auto illegal = [](const FixResult& r) {
     return r.after.crossings + r.after.inside_vertices;
@@ -216,31 +278,12 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     }
   }
 
-  if (may_layer && !cancelled && rank(result, options.bounds) > 0 &&
-      worth_layering(start, work, options.threads)) {
-    std::vector<Mesh> attempt = start;
-    LayeringRecord record;
-    std::vector<std::vector<std::uint32_t>> input_vertex;
-    for (const CanonicalMesh& c : scene.renumbering) input_vertex.push_back(c.vertex_order);
-    FixResult r = run_layering(attempt, options, work_pins, round, watch, input_vertex, record);
-    record.ran = true;
-    for (LayerRecord& layer : record.layers) layer.mesh = scene.mesh_order[layer.mesh];
-    for (LayeringOrderRecord& order : record.orders)
-      for (LayerRecord& layer : order.layers) layer.mesh = scene.mesh_order[layer.mesh];
-    if (!cancelled && better(r, result, options.bounds)) {
-      record.kept = true;
-      ContinuationRecord continued = std::move(result.continuation);  // set aside, still reported
-      continued.kept = false;
-      // A fact of the obstacles, which the layering leaves as they are (its repairs count the
-      // inner layers among the obstacles).
-      const std::size_t obstacle_pairs = result.obstacle_crossing_pairs;
-      adopt(r, attempt, options.clearance, result, work);
-      result.continuation = std::move(continued);
-      result.obstacle_crossing_pairs = obstacle_pairs;
-    } else {
-      add_times(r, result);
-    }
-    result.layering = std::move(record);
+  if (laid.ran && !laid.offered) {
+    offer_layering();
+  } else if (may_layer && !laid.ran && !cancelled && rank(result, options.bounds) > 0 &&
+             worth_layering(start, work, options.threads)) {
+    lay_garments();
+    offer_layering();
   }
 
   counts_in_input_order(scene, result.before);
