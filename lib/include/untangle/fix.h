@@ -96,8 +96,11 @@ struct FixOptions {
   // (median distance of its vertices) outward, each laid over the ones inside it, which stand as
   // obstacles flattened onto the obstacles' surface and grow back to their places in the
   // continuation's steps, the layer repaired and relaxed after each toward the shape it had
-  // alone. Kept as the continuation is (clean and better). Region method only; `simulate`'s
-  // corrections leave it out.
+  // alone; where that ends unresolved or beyond `bounds`, once more in the order where the layers
+  // overlap (LayerOrderRule::kOverlap), the better kept. Kept as the continuation is (clean and
+  // better). With two or more movable meshes whose first attempt ends unresolved it runs before
+  // the retries, which then run only where it is not clean within `bounds`. Region method only;
+  // `simulate`'s corrections leave it out.
   bool layering = true;
   // What `distorted` means to the continuation's and the layering's trigger and choice (the CLI
   // passes its --max-stretch, --max-flips and --max-move).

@@ -31,12 +31,16 @@ bool worth_layering(const std::vector<Mesh>& input, const std::vector<Mesh>& kep
 //  3. from the second on, each is laid over those before it: if it crosses them, they stand as
 //     obstacles, flattened onto the obstacles' surface (each vertex to its closest point there)
 //     and grown back to their places in the continuation's steps, the layer repaired and relaxed
-//     toward the shape it had alone after each (run_continuation, stage 5).
+//     toward the shape it had alone after each (run_continuation, stage 5);
+//  4. where the whole scene then ends unresolved or beyond `options.bounds`, step 3 runs again
+//     from the meshes of step 1 in the order where the layers overlap (layer_order in
+//     layering.cpp), when it differs, and the better of the two is kept (a tie keeps the first).
 // The result is judged on the whole scene: `clean`, `after`, `quality` and `displacement` against
-// the input; `history` every repair's iterations in order (stage 5). `record.layers` lists the
-// layers innermost first, their meshes in canonical indices, each piece named by its ordinal
-// among its mesh's pieces by lowest vertex in the input's numbering (`input_vertex`: per mesh,
-// canonical vertex -> input vertex; a mesh without one is numbered as it is).
+// the input; `history` every repair's iterations in order (stage 5), of both orders when two
+// ran. `record.orders` lists the orders tried, `record.layers` the kept one's layers innermost
+// first, their meshes in canonical indices, each piece named by its ordinal among its mesh's
+// pieces by lowest vertex in the input's numbering (`input_vertex`: per mesh, canonical vertex
+// -> input vertex; a mesh without one is numbered as it is).
 FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, const PinMask& pins,
                        const Rounding& round, const FixProgress& progress,
                        const std::vector<std::vector<std::uint32_t>>& input_vertex,
