@@ -75,8 +75,9 @@ struct FixOptions {
   // each with the clearance doubled (a larger gap makes each step's penetration shallower where
   // the moves overshoot one another); the first clean attempt is kept, else the one with the
   // fewest crossings plus inside vertices (the first on a tie). Counted in attempts, not seconds,
-  // so that the result does not depend on the machine.
-  int retries = 2;
+  // so that the result does not depend on the machine. Where garments worn together were laid
+  // before the retries (`layering`), two at most.
+  int retries = 4;
   // On request (off by default: it runs up to 32 repairs, seconds to minutes where the direct
   // repair takes a fraction of a second; see docs/PERFORMANCE.md): when the kept attempt is
   // unresolved, or clean but beyond `bounds`, and movable vertices lie
