@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
+#include "geometry/point_grid.h"
 #include "geometry/vec3.h"
 #include "resolve/inside_vertices.h"
 #include "resolve/repair_loop.h"
@@ -98,39 +98,23 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
   double cell = 0.0;
   for (const Ask& a : asks) cell = std::max(cell, a.radius);
   if (!(cell > 0.0) || !std::isfinite(cell)) return plan;  // degenerate meshes: no plan
-  auto key = [cell](const Vec3& p) {
-    // Cell coordinates clamped, then mixed in unsigned arithmetic (wrapping is defined there).
-    auto c = [&](double x) {
-      return static_cast<std::uint64_t>(
-          static_cast<std::int64_t>(std::clamp(std::floor(x / cell), -1e15, 1e15)));
-    };
-    return (c(p[0]) * 73856093u) ^ (c(p[1]) * 19349663u) ^ (c(p[2]) * 83492791u);
-  };
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+  PointGrid grid(cell);
   for (std::uint32_t v = 0; v < topo.points.size(); ++v)
-    if (measures.role[topo.vertex_mesh[v]] == Role::kObstacle) grid[key(topo.points[v])].push_back(v);
+    if (measures.role[topo.vertex_mesh[v]] == Role::kObstacle) grid.add(topo.points[v], v);
   std::vector<double> shrink(topo.points.size(), 0.0);
   for (const Ask& a : asks) {
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const Vec3 probe{a.at[0] + dx * cell, a.at[1] + dy * cell, a.at[2] + dz * cell};
-          const auto it = grid.find(key(probe));
-          if (it == grid.end()) continue;
-          for (std::uint32_t v : it->second) {
-            const double d = norm(sub(topo.points[v], a.at));
-            if (d >= a.radius) continue;
-            const double hold = 2.0 * a.shrink;
-            double f = 1.0;
-            if (d > hold) {
-              const double t = (d - hold) / (a.radius - hold);
-              f = (1.0 - t * t) * (1.0 - t * t);
-            }
-            shrink[v] = std::max(shrink[v], a.shrink * f);
-          }
-        }
+    grid.for_each_near(a.at, [&](std::uint32_t v) {
+      const double d = norm(sub(topo.points[v], a.at));
+      if (d >= a.radius) return;
+      const double hold = 2.0 * a.shrink;
+      double f = 1.0;
+      if (d > hold) {
+        const double t = (d - hold) / (a.radius - hold);
+        f = (1.0 - t * t) * (1.0 - t * t);
+      }
+      shrink[v] = std::max(shrink[v], a.shrink * f);
+    });
   }
-  // Grid cells hashed together may list a vertex twice; the max above does not mind.
   plan.inward.assign(meshes.size(), {});
   std::vector<Vec3> inward(topo.points.size(), Vec3{0.0, 0.0, 0.0});
   for (std::uint32_t v = 0; v < topo.points.size(); ++v) {

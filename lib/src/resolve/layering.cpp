@@ -3,12 +3,11 @@
 #include "resolve/layering.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <map>
 #include <memory>
 #include <numeric>
 
+#include "geometry/point_grid.h"
 #include "geometry/vec3.h"
 #include "resolve/continuation.h"
 #include "resolve/repair_loop.h"
@@ -95,32 +94,19 @@ int outside_where_overlapping(const std::vector<Vec3>& foot_a, const std::vector
   const auto vote = [&](const std::vector<Vec3>& foot_p, const std::vector<double>& depth_p,
                         const std::vector<Vec3>& foot_q, const std::vector<double>& depth_q,
                         int sign) {
-    using Cell = std::array<long long, 3>;
-    const auto cell_of = [&](const Vec3& p) {
-      return Cell{static_cast<long long>(std::floor(p[0] / radius)),
-                  static_cast<long long>(std::floor(p[1] / radius)),
-                  static_cast<long long>(std::floor(p[2] / radius))};
-    };
-    std::map<Cell, std::vector<std::uint32_t>> grid;
-    for (std::uint32_t j = 0; j < foot_q.size(); ++j) grid[cell_of(foot_q[j])].push_back(j);
+    PointGrid grid(radius);
+    for (std::uint32_t j = 0; j < foot_q.size(); ++j) grid.add(foot_q[j], j);
     for (std::size_t i = 0; i < foot_p.size(); ++i) {
-      const Cell c = cell_of(foot_p[i]);
       double best = radius * radius;
       std::uint32_t nearest = kNone;
-      for (long long dx = -1; dx <= 1; ++dx)
-        for (long long dy = -1; dy <= 1; ++dy)
-          for (long long dz = -1; dz <= 1; ++dz) {
-            const auto it = grid.find({c[0] + dx, c[1] + dy, c[2] + dz});
-            if (it == grid.end()) continue;
-            for (std::uint32_t j : it->second) {
-              const Vec3 gap = sub(foot_q[j], foot_p[i]);
-              const double d2 = dot(gap, gap);
-              if (d2 < best || (d2 == best && nearest != kNone && j < nearest)) {
-                best = d2;
-                nearest = j;
-              }
-            }
-          }
+      grid.for_each_near(foot_p[i], [&](std::uint32_t j) {
+        const Vec3 gap = sub(foot_q[j], foot_p[i]);
+        const double d2 = dot(gap, gap);
+        if (d2 < best || (d2 == best && nearest != kNone && j < nearest)) {
+          best = d2;
+          nearest = j;
+        }
+      });
       if (nearest == kNone) continue;
       votes -= sign * std::max(0.0, depth_q[nearest] - depth_p[i]);
     }
@@ -296,10 +282,11 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
   std::iota(by_distance.begin(), by_distance.end(), 0u);
   std::stable_sort(by_distance.begin(), by_distance.end(),
                    [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b]; });
-  const std::vector<std::uint32_t> by_overlap = layer_order(foot, depth, distance, edge);
 
   // 3. Each over the ones inside it, in `order`; the whole scene judged as one at the end.
-  const std::vector<Mesh> laid_alone = meshes;
+  std::vector<std::vector<Vec3>>
+      laid_alone;  // the positions of step 1, where a second order starts
+  for (const Mesh& m : meshes) laid_alone.push_back(m.positions);
   const auto lay = [&](const std::vector<std::uint32_t>& order, LayeringOrderRecord& tried) {
     for (std::size_t k = 0; k < order.size(); ++k) {
       const Piece& piece = pieces[order[k]];
@@ -382,10 +369,13 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
   record.orders.emplace_back();  // by median distance
   FixResult judged = lay(by_distance, record.orders.back());
   std::size_t chosen = 0;
-  if (rank(judged, options.bounds) > 0 && by_overlap != by_distance && !cancelled) {
+  const std::vector<std::uint32_t> by_overlap = rank(judged, options.bounds) > 0 && !cancelled
+                                                    ? layer_order(foot, depth, distance, edge)
+                                                    : by_distance;
+  if (by_overlap != by_distance) {
     std::vector<std::vector<Vec3>> first;
     for (Mesh& m : meshes) first.push_back(m.positions);
-    for (std::size_t m = 0; m < meshes.size(); ++m) meshes[m].positions = laid_alone[m].positions;
+    for (std::size_t m = 0; m < meshes.size(); ++m) meshes[m].positions = laid_alone[m];
     record.orders.emplace_back();
     record.orders.back().rule = LayerOrderRule::kOverlap;
     FixResult other = lay(by_overlap, record.orders.back());
