@@ -1,9 +1,12 @@
-// untangle_dump_fix [--random N] [--threads N]: runs fix_meshes on every generated scene (named
-// scenes, the Wicke configurations plain, subdivided and permuted, the larger self-intersections,
-// layers, the cow scenes, random tangles 0..N-1) and prints one line per scene: status,
-// iterations, crossings before and after, moved vertices, and a 64-bit FNV-1a hash of every
-// resulting position written as %a. Two builds whose dumps are equal gave bit-identical results:
-// the check that a refactoring changed no behaviour (docs/CONTRIBUTING.md).
+// untangle_dump_fix [--random N] [--threads N] [--continuation 0|1]: runs fix_meshes on every
+// generated scene (named scenes, the Wicke configurations plain, subdivided and permuted, the
+// larger self-intersections, layers, the cow scenes, random tangles 0..N-1) and prints one line per
+// scene: status, iterations, crossings before and after, moved vertices, and a 64-bit FNV-1a hash
+// of every resulting position written as %a; on stderr, the scene's name and its wall milliseconds.
+// `--continuation 1` or `0` sets FixOptions::continuation (else its default). Two builds whose
+// dumps are equal gave bit-identical results: the check that a refactoring changed no behaviour
+// (docs/CONTRIBUTING.md).
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -33,9 +36,13 @@ std::uint64_t hash_positions(const std::vector<Mesh>& meshes) {
   return h;
 }
 
+int continuation = -1;  // --continuation: -1 the default
+
 void dump(const std::string& name, std::vector<Mesh> meshes, int threads) {
   untangle::FixOptions options;
   options.threads = threads;
+  if (continuation >= 0) options.continuation = continuation != 0;
+  const auto start = std::chrono::steady_clock::now();
   const untangle::FixResult r = untangle::fix_meshes(meshes, options);
   int last_stage = r.history.empty() ? 1 : r.history.back().stage;
   std::printf("%s %s it=%d stage=%d before=%zu after=%zu moved=%zu max=%a hash=%016llx\n",
@@ -44,6 +51,9 @@ void dump(const std::string& name, std::vector<Mesh> meshes, int threads) {
               r.displacement.moved_vertices, r.displacement.max,
               static_cast<unsigned long long>(hash_positions(meshes)));
   std::fflush(stdout);
+  std::fprintf(
+      stderr, "%s %.0f ms\n", name.c_str(),
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
 }
 
 std::vector<Mesh> one(Mesh m) { return {std::move(m)}; }
@@ -57,8 +67,11 @@ int main(int argc, char** argv) {
     const std::string flag = argv[i];
     if (flag == "--random") random = std::atoi(argv[i + 1]);
     else if (flag == "--threads") threads = std::atoi(argv[i + 1]);
+    else if (flag == "--continuation")
+      continuation = std::atoi(argv[i + 1]);
     else {
-      std::fprintf(stderr, "usage: untangle_dump_fix [--random N] [--threads N]\n");
+      std::fprintf(stderr,
+                   "usage: untangle_dump_fix [--random N] [--threads N] [--continuation 0|1]\n");
       return 2;
     }
   }
