@@ -257,11 +257,14 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
     }
     if (result.continuation.ran) {
       const untangle::ContinuationRecord& c = result.continuation;
-      std::printf("continuation (deepest inside vertex %.3g, %zu obstacle vertices shrunk by up to "
-                  "%.3g, %d steps): %s, %zu crossings, %zu inside, stretch %.3g%s\n",
-                  c.deepest, c.shrunk_vertices, c.largest_shrink, c.steps,
-                  c.clean ? "clean" : "unresolved", c.crossings, c.inside_vertices, c.max_stretch,
-                  c.kept ? " (kept)" : " (not kept)");
+      std::printf(
+          "continuation (deepest inside vertex %.3g, %zu obstacle vertices shrunk by up to "
+          "%.3g, %d steps): %s, %zu crossings, %zu inside, stretch %.3g%s\n",
+          c.deepest, c.shrunk_vertices, c.largest_shrink, c.steps,
+          c.clean     ? "clean"
+          : c.gave_up ? "gave up"
+                      : "unresolved",
+          c.crossings, c.inside_vertices, c.max_stretch, c.kept ? " (kept)" : " (not kept)");
     }
     if (result.layering.ran) {
       const untangle::LayeringRecord& l = result.layering;
@@ -415,9 +418,10 @@ void add_fix_options(CLI::App& cmd, CommonOptions& o, std::string& preview) {
       ->check(CLI::Range(0, 8))
       ->option_text("N");
   cmd.add_flag("--continuation", o.continuation,
-               "A run left unresolved or beyond the bounds with vertices inside a closed obstacle "
-               "runs once more: the obstacles shrunk inward, then grown back in steps, repaired "
-               "and relaxed after each (slow: up to 32 repairs)");
+               "A run left unresolved, or stretched or flipped beyond the bounds, with vertices "
+               "inside a closed obstacle runs once more: the obstacles shrunk inward, then grown "
+               "back in steps, repaired and relaxed after each (slow: up to 32 repairs; it gives "
+               "up after four in a row end unresolved)");
   cmd.add_flag_callback("--no-layering", [&o] { o.layering = false; },
                         "Do not lay garments worn together one at a time when the run is left "
                         "unresolved or beyond the bounds (each alone on the obstacles, then each "

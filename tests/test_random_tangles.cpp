@@ -509,6 +509,33 @@ TEST(RandomTangles, UnresolvedRunRelaxesWhatItWrites) {
   }
 }
 
+// A continuation that cannot clean a step gives up after four unresolved repairs in a row (DESIGN
+// §5, *Retries and the continuation*): seed 299 is clean but beyond the bounds (a flipped face),
+// so the continuation runs; its first step and the three halvings after it end unresolved. Before
+// the rule it ran 14 repairs, none clean, and its time doubled the run's. Given up, it is not
+// kept and the obstacles are back: the positions are the same as without it.
+TEST(RandomTangles, ContinuationGivesUpAfterFourUnresolvedRepairs) {
+  const scenes::RandomTangle tangle = scenes::random_tangle(299);
+  SCOPED_TRACE(tangle.description);
+  std::vector<Mesh> with = scenes::scene_meshes(tangle.scene), without = with;
+  FixOptions options;
+  options.threads = 1;
+  options.continuation = true;
+  const FixResult a = fix_meshes(with, options);
+  options.continuation = false;
+  const FixResult b = fix_meshes(without, options);
+  const ContinuationRecord& c = a.continuation;
+  ASSERT_TRUE(c.ran) << "no continuation: the test no longer tests";
+  EXPECT_TRUE(c.gave_up);
+  EXPECT_FALSE(c.kept);
+  ASSERT_EQ(c.runs.size(), 4u);
+  for (const ContinuationStep& run : c.runs) EXPECT_FALSE(run.clean);
+  EXPECT_EQ(c.runs.front().shrink, 1.0);
+  EXPECT_EQ(a.clean, b.clean);
+  ASSERT_EQ(with.size(), without.size());
+  for (std::size_t m = 0; m < with.size(); ++m) EXPECT_EQ(with[m].positions, without[m].positions);
+}
+
 // ---- the generator ----
 
 TEST(RandomTangles, SameSeedSameScene) {

@@ -78,16 +78,19 @@ struct FixOptions {
   // so that the result does not depend on the machine. Where garments worn together were laid
   // before the retries (`layering`), two at most.
   int retries = 4;
-  // On request (off by default: it runs up to 32 repairs, seconds to minutes where the direct
-  // repair takes a fraction of a second; see docs/PERFORMANCE.md): when the kept attempt is
-  // unresolved, or clean but beyond `bounds`, and movable vertices lie
-  // inside a closed obstacle (a deep penetration), the repair runs once more from the input as a
-  // continuation (DESIGN §5): the obstacles shrunk inward along their normals until the movable
-  // meshes are outside them, then grown back to their true shape in steps, repaired and relaxed
-  // (toward the input's shape) after each. Its result is kept when it is clean and better: within
-  // the bounds where the other is not, or unresolved against it, or with a smaller largest edge
-  // ratio when both are beyond the bounds. Region method only (the paper method is the paper's
-  // DRN alone).
+  // On request (off by default: where it runs it takes seconds to minutes against a fraction of
+  // a second, and on a scene far from the origin (garment_four_loops moved by 1e5) over 200 s;
+  // see docs/PERFORMANCE.md): when the kept attempt is unresolved, or clean but beyond the
+  // stretch or flip bound of `bounds` (not the move bound alone: a garment sunk deep has to move
+  // far, and the continuation does not make that shorter), and movable vertices lie inside a
+  // closed obstacle (a deep penetration), the repair runs once more from the input as a
+  // continuation (DESIGN §5): the
+  // obstacles shrunk inward along their normals until the movable meshes are outside them, then
+  // grown back to their true shape in steps, repaired and relaxed (toward the input's shape)
+  // after each; it gives up after four repairs in a row end unresolved. Its result is kept when
+  // it is clean and better: within the bounds where the other is not, or unresolved against it,
+  // or with a smaller largest edge ratio when both are beyond the bounds. Region method only (the
+  // paper method is the paper's DRN alone); `simulate`'s corrections leave it out.
   bool continuation = false;
   // Garments worn together (DESIGN §5, "Layering"): when the kept attempt is unresolved, or clean
   // but beyond `bounds`, and the scene has an obstacle and two or more layers (edge-connected
@@ -183,9 +186,10 @@ struct ContinuationRecord {
   double largest_shrink = 0.0;  // largest inward move of an obstacle vertex, scene units
   std::size_t shrunk_vertices = 0;  // obstacle vertices moved inward
   bool clean = false;         // its last step ended with no crossing and no inside vertex
-  std::size_t crossings = 0, inside_vertices = 0;  // left by it
+  std::size_t crossings = 0, inside_vertices = 0;  // left by it (by its last repair if it gave up)
   double max_stretch = 1.0;   // the largest over the movable meshes, against the input
   bool kept = false;          // its positions are the result
+  bool gave_up = false;       // ended after four repairs in a row that ended unresolved
   std::vector<ContinuationStep> runs;  // the steps in order
 };
 

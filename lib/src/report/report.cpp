@@ -219,6 +219,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
     e["inside_vertices"] = c.inside_vertices;
     e["max_stretch"] = c.max_stretch;
     e["kept"] = c.kept;
+    e["gave_up"] = c.gave_up;
     e["runs"] = continuation_steps_json(c.runs);
     j["continuation"] = e;
   } else {

@@ -22,6 +22,9 @@ struct ContinuationPlan {
   std::size_t shrunk_vertices = 0;
   double movable_edge = 0.0;  // the smallest mean edge of a movable mesh with a vertex inside
   int steps = 0;  // repairs to run, the last at the true shape; 0: nothing is inside, no plan
+  // Repairs ending unresolved one after the other that end the run unresolved (the obstacles
+  // back at their true shape); 0: never.
+  int give_up_after = 0;
 };
 
 // The plan for meshes at their input positions (canonical order, as run_repair takes them).
@@ -30,7 +33,7 @@ struct ContinuationPlan {
 // few times that, tapering to nothing; an obstacle vertex moves by the largest ask, at most 0.4 of
 // the obstacle's thickness behind it (a ray inward), so that thin parts are not turned inside
 // out. Steps: the largest move in steps of kStepEdges mean edges of the movable meshes, between
-// 2 and kMaxSteps.
+// 2 and kMaxSteps. It gives up after kGiveUpAfter unresolved repairs in a row.
 ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOptions& options,
                                    const PinMask& pins);
 
@@ -41,11 +44,12 @@ int continuation_steps(double largest_shrink, double movable_edge);
 // Runs the plan on `meshes` (input positions in, result out; the obstacles end at their input
 // positions bit for bit). The result is the last step's, with `quality` and `displacement`
 // measured against the input and `history` the steps' iterations in order (with `stage`: 4 for
-// the continuation, 5 for the layering's). `runs` receives one record per step.
+// the continuation, 5 for the layering's). `runs` receives one record per step; `gave_up`, when
+// given, whether the plan's give_up_after ended it.
 FixResult run_continuation(std::vector<Mesh>& meshes, const ContinuationPlan& plan,
                            const FixOptions& options, const PinMask& pins, const Rounding& round,
                            const FixProgress& progress, std::vector<ContinuationStep>& runs,
-                           int stage = 4);
+                           int stage = 4, bool* gave_up = nullptr);
 
 // Displacement statistics of the movable meshes of `meshes` against `from` (the same meshes at
 // other positions), relative to the mean edge lengths of `from`.
