@@ -77,7 +77,19 @@ Closest closest_on(const MeshTree& tree, const Vec3& p) {
 bool first_ray_hit(const MeshTree& tree, const Vec3& from, const Vec3& direction, Vec3& out) {
   if (tree.triangles.empty()) return false;
   const TreeKernel::Point_3 p(from[0], from[1], from[2]);
-  const TreeKernel::Vector_3 d(direction[0], direction[1], direction[2]);
+  // CGAL's ray is handed a direction as long as the tree's box diagonal: its traversal and the
+  // coplanarity test below use from + d, which with a unit direction mixes the scene's length
+  // with a fixed one, so that the primitive found (and so the continuation's plan) changed in its
+  // last bits when the scene was scaled by 1024 (issue 21). Scaled by the diagonal, a scene scaled
+  // by a power of two gives the same hits scaled. The hit point below is homogeneous either way.
+  const CGAL::Bbox_3 box = tree.tree.bbox();
+  const double dx = box.xmax() - box.xmin(), dy = box.ymax() - box.ymin(),
+               dz = box.zmax() - box.zmin();
+  const double diagonal = std::sqrt(dx * dx + dy * dy + dz * dz);
+  const double length = norm(direction);
+  const double stretch = diagonal > 0.0 && length > 0.0 ? diagonal / length : 1.0;
+  const TreeKernel::Vector_3 d(direction[0] * stretch, direction[1] * stretch,
+                               direction[2] * stretch);
   const auto hit = tree.tree.first_intersected_primitive(TreeKernel::Ray_3(p, d));
   if (!hit) return false;
   const TreeKernel::Triangle_3& triangle = **hit;

@@ -41,10 +41,12 @@ Closest closest_on(const MeshTree& tree, const Vec3& p);
 
 // The first point where the ray from `from` along `direction` meets a triangle of `tree` in one
 // point (a ray in the plane of the triangle it meets first, which meets it along a segment, gives
-// none): false when it meets nothing. CGAL picks the triangle; the point is computed here from its
-// corners, homogeneously in the coordinates, so that a scene scaled by a power of two gives the
-// same point scaled, bit for bit (CGAL's constructed intersection point does not: measured on the
-// MakeHuman body, the last bits differed at 1024 times the size, and the region moves with them).
+// none): false when it meets nothing. CGAL picks the triangle (along the direction scaled to the
+// tree's box diagonal, so that the pick too is the same in any unit); the point is computed here
+// from its corners, homogeneously in the coordinates, so that a scene scaled by a power of two
+// gives the same point scaled, bit for bit (CGAL's constructed intersection point does not:
+// measured on the MakeHuman body, the last bits differed at 1024 times the size, and the region
+// moves with them).
 bool first_ray_hit(const MeshTree& tree, const Vec3& from, const Vec3& direction, Vec3& out);
 
 // The unit normal of triangle t by its winding.
