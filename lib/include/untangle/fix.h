@@ -84,13 +84,12 @@ struct FixOptions {
   // stretch or flip bound of `bounds` (not the move bound alone: a garment sunk deep has to move
   // far, and the continuation does not make that shorter), and movable vertices lie inside a
   // closed obstacle (a deep penetration), the repair runs once more from the input as a
-  // continuation (DESIGN §5): the
-  // obstacles shrunk inward along their normals until the movable meshes are outside them, then
-  // grown back to their true shape in steps, repaired and relaxed (toward the input's shape)
-  // after each; it gives up after four repairs in a row end unresolved. Its result is kept when
-  // it is clean and better: within the bounds where the other is not, or unresolved against it,
-  // or with a smaller largest edge ratio when both are beyond the bounds. Region method only (the
-  // paper method is the paper's DRN alone); `simulate`'s corrections leave it out.
+  // continuation (DESIGN §5): the obstacles shrunk inward along their normals until the movable
+  // meshes are outside them, then grown back to their true shape in steps, repaired and relaxed
+  // (toward the input's shape) after each; it gives up after four repairs in a row end
+  // unresolved. Its result is kept when it is clean and better: within the bounds where the
+  // other is not, or unresolved against it, or with a smaller largest edge ratio when both are
+  // beyond the bounds. Region method only (the paper method is the paper's DRN alone).
   bool continuation = false;
   // Garments worn together (DESIGN §5, "Layering"): when the kept attempt is unresolved, or clean
   // but beyond `bounds`, and the scene has an obstacle and two or more layers (edge-connected
