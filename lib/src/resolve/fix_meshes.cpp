@@ -11,6 +11,7 @@
 #include "resolve/continuation.h"
 #include "resolve/inside_vertices.h"
 #include "resolve/layering.h"
+#include "resolve/quality_stats.h"
 #include "resolve/repair_loop.h"
 #include "untangle/fix.h"
 #include "untangle/intersections.h"
@@ -265,8 +266,7 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
   const auto misshapen = [&](const FixResult& r) {
     if (!r.clean) return true;
     for (const QualityStats& q : r.quality)
-      if (q.max_stretch > options.bounds.max_stretch || q.flipped_faces > options.bounds.max_flips)
-        return true;
+      if (!shape_within_bounds(q, options.bounds)) return true;
     return false;
   };
   if (options.continuation && options.method == FixMethod::kRegion && !cancelled &&

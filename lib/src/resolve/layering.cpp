@@ -284,8 +284,8 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
                    [&](std::uint32_t a, std::uint32_t b) { return distance[a] < distance[b]; });
 
   // 3. Each over the ones inside it, in `order`; the whole scene judged as one at the end.
-  std::vector<std::vector<Vec3>>
-      laid_alone;  // the positions of step 1, where a second order starts
+  // The positions of step 1, where a second order starts.
+  std::vector<std::vector<Vec3>> laid_alone;
   for (const Mesh& m : meshes) laid_alone.push_back(m.positions);
   const auto lay = [&](const std::vector<std::uint32_t>& order, LayeringOrderRecord& tried) {
     for (std::size_t k = 0; k < order.size(); ++k) {

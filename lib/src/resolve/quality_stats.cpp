@@ -99,9 +99,12 @@ std::vector<QualityStats> measure_quality(const std::vector<Mesh>& input,
   return quality_stats(topo, before, role);
 }
 
+bool shape_within_bounds(const QualityStats& q, const QualityBounds& bounds) {
+  return q.max_stretch <= bounds.max_stretch && q.flipped_faces <= bounds.max_flips;
+}
+
 bool within_bounds(const QualityStats& q, const QualityBounds& bounds) {
-  return q.max_stretch <= bounds.max_stretch && q.flipped_faces <= bounds.max_flips &&
-         q.max_displacement_over_diagonal <= bounds.max_move;
+  return shape_within_bounds(q, bounds) && q.max_displacement_over_diagonal <= bounds.max_move;
 }
 
 const char* to_string(FixStatus status) {

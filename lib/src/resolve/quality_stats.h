@@ -13,4 +13,8 @@ namespace untangle {
 std::vector<QualityStats> quality_stats(const SceneTopology& topo, const std::vector<Vec3>& input,
                                         const std::vector<Role>& role);
 
+// Whether the mesh's shape is within `bounds`: its stretch and flipped faces (within_bounds is
+// this and the move bound).
+bool shape_within_bounds(const QualityStats& q, const QualityBounds& bounds);
+
 }  // namespace untangle
