@@ -25,5 +25,12 @@ inline Vec3 unit(const Vec3& a) {
 inline double triangle_area(const Vec3& a, const Vec3& b, const Vec3& c) {
   return 0.5 * norm(cross(sub(b, a), sub(c, a)));
 }
+// Six times the signed volume of the tetrahedron (r, a, b, c). Summed over the triangles of a
+// closed surface it is six times the volume the surface encloses, for any r; take r on the
+// surface, not the origin: far from the origin (a scene moved by 1e5) the terms about it are
+// some |p|^3 and their sum is rounding noise, of either sign.
+inline double volume6(const Vec3& r, const Vec3& a, const Vec3& b, const Vec3& c) {
+  return dot(sub(a, r), cross(sub(b, r), sub(c, r)));
+}
 
 }  // namespace untangle

@@ -94,12 +94,19 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
 
   // The obstacles' welded vertices with an outward normal: each closed component's faces turned
   // by their orientation, its sign from the volume they enclose.
+  // Each about its first triangle's first corner (volume6).
   std::vector<double> outward(topo.component_mesh.size(), 0.0);
+  std::vector<Vec3> about(topo.component_mesh.size());
+  std::vector<std::uint8_t> seen(topo.component_mesh.size(), 0);
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
     if (measures.role[topo.tri_mesh[t]] != Role::kObstacle) continue;
     const auto& f = topo.tris[t];
-    const double volume = dot(topo.points[f[0]], cross(topo.points[f[1]], topo.points[f[2]]));
-    outward[topo.tri_component(t)] += measures.orientation[t] < 0 ? -volume : volume;
+    const std::uint32_t k = topo.tri_component(t);
+    if (!seen[k]) about[k] = topo.points[f[0]];
+    seen[k] = 1;
+    const double volume =
+        volume6(about[k], topo.points[f[0]], topo.points[f[1]], topo.points[f[2]]);
+    outward[k] += measures.orientation[t] < 0 ? -volume : volume;
   }
   // Obstacle vertices binned in a grid of the largest ask's radius.
   double cell = 0.0;

@@ -43,10 +43,16 @@ bool has_inside(const SceneTopology& topo, std::uint32_t m,
     directed.push_back({a, b});
     parent[find(a - base)] = find(b - base);
   }
-  std::vector<Vec3> hole(n, Vec3{0, 0, 0});
+  // Each chain's vector area about its first vertex met, not the origin (far from it the terms
+  // are some |p|^2 and cancel to rounding noise; see volume6).
+  std::vector<Vec3> hole(n, Vec3{0, 0, 0}), about(n);
+  std::vector<std::uint8_t> started(n, 0);
   for (const auto& d : directed) {
     const std::uint32_t r = find(d[0] - base);
-    hole[r] = add(hole[r], scale(cross(topo.points[d[0]], topo.points[d[1]]), 0.5));
+    if (!started[r]) about[r] = topo.points[d[0]];
+    started[r] = 1;
+    const Vec3 a = sub(topo.points[d[0]], about[r]), b = sub(topo.points[d[1]], about[r]);
+    hole[r] = add(hole[r], scale(cross(a, b), 0.5));
   }
   double hole_area = 0.0;
   for (const Vec3& h : hole) hole_area += norm(h);

@@ -59,7 +59,7 @@ WindingNumber::WindingNumber(const std::vector<Vec3>& points,
     item.centroid = centroid(item.tri);
     item.weighted = scale(item.centroid, item.area);
     items.push_back(item);
-    volume_ += dot(points[t[0]], cross(points[t[1]], points[t[2]])) / 6.0;
+    volume_ += volume6(points[tris[0][0]], points[t[0]], points[t[1]], points[t[2]]) / 6.0;
   }
   if (items.empty()) return;
   const auto n = static_cast<std::uint32_t>(items.size());

@@ -1,6 +1,8 @@
 // Consistent orientation of the faces of each component, and whether a closed one faces outward.
 #include "topology/orientations.h"
 
+#include "geometry/vec3.h"
+
 namespace untangle {
 
 std::vector<std::int8_t> face_orientations(const SceneTopology& topo) {
@@ -65,15 +67,15 @@ std::vector<int> closed_orientations(const SceneTopology& topo) {
     }
     if (direction != 0) closed[c] = 0;
   }
+  // Each component's volume about its first triangle's first corner (volume6).
   std::vector<double> volume(n, 0.0);
   std::vector<std::uint8_t> any(n, 0);
+  std::vector<Vec3> about(n);
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
-    const Vec3& a = topo.points[topo.tris[t][0]];
-    const Vec3& b = topo.points[topo.tris[t][1]];
-    const Vec3& c = topo.points[topo.tris[t][2]];
     const std::uint32_t k = topo.tri_component(t);
-    volume[k] += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
-                 a[2] * (b[0] * c[1] - b[1] * c[0]);
+    const auto& tri = topo.tris[t];
+    if (!any[k]) about[k] = topo.points[tri[0]];
+    volume[k] += volume6(about[k], topo.points[tri[0]], topo.points[tri[1]], topo.points[tri[2]]);
     any[k] = 1;
   }
   std::vector<int> out(n, 0);
