@@ -221,6 +221,9 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
   // 1. Each movable mesh alone with the obstacles.
   FixOptions alone = options;
   alone.layering = false;
+  // The layering's own continuation grows the inner layers back (3.); one inside each garment's
+  // repair alone would run before it, on every pair, for seconds each.
+  alone.continuation = false;
   for (std::uint32_t m : movable) {
     if (cancelled) break;
     std::vector<Mesh> scene{meshes[m]};
@@ -373,17 +376,16 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
                                                     ? layer_order(foot, depth, distance, edge)
                                                     : by_distance;
   if (by_overlap != by_distance) {
-    std::vector<std::vector<Vec3>> first;
-    for (Mesh& m : meshes) first.push_back(m.positions);
+    std::vector<Mesh> first = meshes;
     for (std::size_t m = 0; m < meshes.size(); ++m) meshes[m].positions = laid_alone[m];
     record.orders.emplace_back();
     record.orders.back().rule = LayerOrderRule::kOverlap;
     FixResult other = lay(by_overlap, record.orders.back());
-    if (!cancelled && better(other, judged, options.bounds)) {
+    if (!cancelled && better(other, meshes, judged, first, input, options.bounds)) {
       judged = std::move(other);
       chosen = 1;
     } else {
-      for (std::size_t m = 0; m < meshes.size(); ++m) meshes[m].positions = std::move(first[m]);
+      meshes = std::move(first);
     }
   }
   record.orders[chosen].kept = true;

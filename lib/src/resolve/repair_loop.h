@@ -41,11 +41,17 @@ int rank(const FixResult& r, const QualityBounds& bounds);
 // The largest edge-length ratio of a result's meshes (1 without any).
 double largest_stretch(const FixResult& r);
 
-// Whether `a` (the continuation or the layering) is better than `b` (the attempt kept so far); a
-// tie keeps `b`. An unresolved continuation or layering is never kept: its steps were each no worse
-// than their own start, not than the input, so it could leave more crossings of a kind or a vertex
-// moved further than an unresolved run may write (FixOptions::max_written_move).
-bool better(const FixResult& a, const FixResult& b, const QualityBounds& bounds);
+// Whether `a` (the continuation or the layering; its meshes `a_meshes`) is better than `b` (the
+// attempt kept so far, `b_meshes`), both repairs of `input`: a lower rank; or, both clean beyond
+// the bounds, `a` better in its largest stretch or in its faces beyond the bounds
+// (faces_beyond_bounds) and no worse in the other, or, better in one and worse in the other,
+// with fewer faces turned over. A tie keeps `b`. An unresolved continuation or layering is never
+// kept: its steps were each no worse than their own start, not than the input, so it could leave
+// more crossings of a kind or a vertex moved further than an unresolved run may write
+// (FixOptions::max_written_move).
+bool better(const FixResult& a, const std::vector<Mesh>& a_meshes, const FixResult& b,
+            const std::vector<Mesh>& b_meshes, const std::vector<Mesh>& input,
+            const QualityBounds& bounds);
 
 // fix_meshes (fix.h) whose relaxation moves toward `rest` (per mesh, per input vertex; an
 // obstacle's entry its positions now) in place of the input's shape: the simulation's correction,
