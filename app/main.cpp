@@ -417,11 +417,16 @@ void add_fix_options(CLI::App& cmd, CommonOptions& o, std::string& preview) {
                  "the first clean one is kept" + default_is(o.retries))
       ->check(CLI::Range(0, 8))
       ->option_text("N");
+  cmd.add_flag_callback(
+      "--no-continuation", [&o] { o.continuation = false; },
+      "Skip the continuation: where a run is left unresolved, or stretched or "
+      "flipped beyond the bounds, with vertices inside a closed obstacle, fix "
+      "runs once more with the obstacles shrunk inward, then grown back in "
+      "steps, repaired and relaxed after each (it adds seconds where it runs; "
+      "up to 32 repairs, giving up after four in a row end unresolved)");
   cmd.add_flag("--continuation", o.continuation,
-               "A run left unresolved, or stretched or flipped beyond the bounds, with vertices "
-               "inside a closed obstacle runs once more: the obstacles shrunk inward, then grown "
-               "back in steps, repaired and relaxed after each (slow: up to 32 repairs; it gives "
-               "up after four in a row end unresolved)");
+               "The continuation where a run calls for it (the default; --no-continuation "
+               "turns it off)");
   cmd.add_flag_callback("--no-layering", [&o] { o.layering = false; },
                         "Do not lay garments worn together one at a time when the run is left "
                         "unresolved or beyond the bounds (each alone on the obstacles, then each "

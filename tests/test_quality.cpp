@@ -179,21 +179,22 @@ std::string scaled_body_six_decimals(const TempDir& dir, double factor) {
 
 // Issue 21's fragile case: a body a little larger, written with six decimals (what Blender's OBJ
 // exporter writes), stalls the shipped garment at the default clearance; twice the clearance
-// resolves it. fix retries by itself and says so; without retries the same run ends unresolved.
-// Whatever the retry leaves, `fix --continuation` ends within the bounds, judged here on the
-// written file: the continuation runs exactly when the retry's result is beyond them. The body is
+// resolves it. fix retries by itself and says so; without retries the same run ends unresolved
+// (both without the continuation, the default, which would run after them). Whatever the retry
+// leaves, `fix` with the continuation ends within the bounds, judged here on the written file:
+// the continuation runs exactly when the retry's result is beyond them. The body is
 // 2% larger, the issue's case (from 2026-12-05, when the region moves' ray points became the same
 // in any unit, until the vertex order became free of half turns, 2026-12-06, that body was clean
 // directly and 4% larger was the one that stalled).
 TEST(Quality, UnresolvedRunIsRetriedWithALargerClearance) {
   TempDir dir;
   const std::string body = scaled_body_six_decimals(dir, 1.02);
-  const Fixed once = fix_shipped_pair(dir, "--retries 0", body);
+  const Fixed once = fix_shipped_pair(dir, "--retries 0 --no-continuation", body);
   ASSERT_EQ(once.exit_code, 5) << once.report.dump(1);
   EXPECT_EQ(once.report["status"], "unresolved");
   EXPECT_TRUE(once.report["retries"].empty());
 
-  const Fixed f = fix_shipped_pair(dir, "--overwrite", body);
+  const Fixed f = fix_shipped_pair(dir, "--overwrite --no-continuation", body);
   ASSERT_TRUE(testing::intersection_free(f.exit_code)) << f.report.dump(1);
   EXPECT_EQ(garment_pairs(f.output, f.body), 0u);
   const auto& retries = f.report["retries"];
@@ -210,7 +211,7 @@ TEST(Quality, UnresolvedRunIsRetriedWithALargerClearance) {
   const bool retry_within = f.report["quality"][0]["within_bounds"].get<bool>();
   EXPECT_EQ(retry_within, f.exit_code == 0);
 
-  const Fixed c = fix_shipped_pair(dir, "--overwrite --continuation", body);
+  const Fixed c = fix_shipped_pair(dir, "--overwrite", body);
   ASSERT_EQ(c.exit_code, 0) << c.report.dump(1);
   if (retry_within) {
     EXPECT_TRUE(c.report["continuation"].is_null());  // not needed: the same result
@@ -228,21 +229,22 @@ TEST(Quality, UnresolvedRunIsRetriedWithALargerClearance) {
 
 // Issue 21's deep penetration: the body 5% larger (six decimals) swallows the garment by up to 2.7
 // cm; the direct repair pushes the garment out through the nearest surface and leaves it
-// distorted. The continuation shrinks the body under the garment and grows it back in steps:
-// clean, nothing inside, the shape kept. The test's own measures judge the written file.
+// distorted. The continuation (the default) shrinks the body under the garment and grows it back
+// in steps: clean, nothing inside, the shape kept. The test's own measures judge the written file.
 TEST(Quality, DeepPenetrationIsReachedByTheContinuation) {
   TempDir dir;
   const std::string body = scaled_body_six_decimals(dir, 1.05);
   TempDir direct_dir;
-  const Fixed direct = fix_shipped_pair(direct_dir, "", body);
+  const Fixed direct = fix_shipped_pair(direct_dir, "--no-continuation", body);
   ASSERT_NE(direct.exit_code, -1);
   EXPECT_NE(direct.exit_code, 0) << "the direct repair reaches it: the test no longer tests";
   EXPECT_TRUE(direct.report["continuation"].is_null());
   EXPECT_FALSE(direct.report["options"]["continuation"].get<bool>());
   ASSERT_GT(cgal_reference::inside_count(direct.input, direct.body), 100u);
 
-  const Fixed f = fix_shipped_pair(dir, "--continuation", body);
+  const Fixed f = fix_shipped_pair(dir, "", body);
   ASSERT_EQ(f.exit_code, 0) << f.report.dump(1);
+  EXPECT_TRUE(f.report["options"]["continuation"].get<bool>());
   EXPECT_EQ(f.report["status"], "clean");
   const auto& c = f.report["continuation"];
   ASSERT_TRUE(c.is_object());

@@ -78,8 +78,7 @@ struct FixOptions {
   // so that the result does not depend on the machine. Where garments worn together were laid
   // before the retries (`layering`), two at most.
   int retries = 4;
-  // On request (off by default: where it runs it takes seconds to minutes against a fraction of
-  // a second, and on a scene far from the origin (garment_four_loops moved by 1e5) over 200 s;
+  // On by default (where it runs it takes seconds to a minute against a fraction of a second;
   // see docs/PERFORMANCE.md): when the kept attempt is unresolved, or clean but beyond the
   // stretch or flip bound of `bounds` (not the move bound alone: a garment sunk deep has to move
   // far, and the continuation does not make that shorter), and movable vertices lie inside a
@@ -88,9 +87,11 @@ struct FixOptions {
   // meshes are outside them, then grown back to their true shape in steps, repaired and relaxed
   // (toward the input's shape) after each; it gives up after four repairs in a row end
   // unresolved. Its result is kept when it is clean and better: within the bounds where the
-  // other is not, or unresolved against it, or with a smaller largest edge ratio when both are
-  // beyond the bounds. Region method only (the paper method is the paper's DRN alone).
-  bool continuation = false;
+  // other is not, or unresolved against it, or, both beyond the bounds, better in its largest
+  // edge ratio or in its faces beyond them (turned over, or with an edge beyond the stretch
+  // bound) and no worse in the other, or, better in one and worse in the other, with fewer faces
+  // turned over. Region method only (the paper method is the paper's DRN alone).
+  bool continuation = true;
   // Garments worn together (DESIGN §5, "Layering"): when the kept attempt is unresolved, or clean
   // but beyond `bounds`, and the scene has an obstacle and two or more layers (edge-connected
   // pieces of the movable meshes: a top and trousers in one file are two; a single movable mesh

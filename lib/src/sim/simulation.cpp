@@ -156,10 +156,12 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
         record.crossings_after = 0;
         record.corrected = true;
       } else {
-        // A step's contact is shallow: the layering (garments laid one at a time over a body
-        // from the input) is not what corrects it, and would redo the step's whole scene.
+        // A step's contact is shallow: neither the layering (garments laid one at a time over a
+        // body from the input) nor the continuation (the obstacles shrunk and grown back) is
+        // what corrects it, and each would redo the step's whole scene.
         FixOptions correction = o.fix;
         correction.layering = false;
+        correction.continuation = false;
         const FixResult fixed = fix_meshes_toward(s.scene.meshes, &s.relax_toward, correction,
                                                   s.scene.pins, round, {});
         record.crossings_before += fixed.before.crossings;
