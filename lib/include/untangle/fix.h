@@ -78,19 +78,19 @@ struct FixOptions {
   // so that the result does not depend on the machine. Where garments worn together were laid
   // before the retries (`layering`), two at most.
   int retries = 4;
-  // On by default (where it runs it takes seconds to a minute against a fraction of a second;
-  // see docs/PERFORMANCE.md): when the kept attempt is unresolved, or clean but beyond the
-  // stretch or flip bound of `bounds` (not the move bound alone: a garment sunk deep has to move
-  // far, and the continuation does not make that shorter), and movable vertices lie inside a
-  // closed obstacle (a deep penetration), the repair runs once more from the input as a
+  // On by default (where it runs it adds seconds: 3 to 5 on the MakeHuman garments on bodies scaled
+  // 1.02 and 1.05; see docs/PERFORMANCE.md): when the kept attempt is unresolved, or clean but
+  // beyond the stretch or flip bound of `bounds` (not the move bound alone: a garment sunk deep has
+  // to move far, and the continuation does not make that shorter), and movable vertices lie inside
+  // a closed obstacle (a deep penetration), the repair runs once more from the input as a
   // continuation (DESIGN §5): the obstacles shrunk inward along their normals until the movable
   // meshes are outside them, then grown back to their true shape in steps, repaired and relaxed
-  // (toward the input's shape) after each; it gives up after four repairs in a row end
-  // unresolved. Its result is kept when it is clean and better: within the bounds where the
-  // other is not, or unresolved against it, or, both beyond the bounds, better in its largest
-  // edge ratio or in its faces beyond them (turned over, or with an edge beyond the stretch
-  // bound) and no worse in the other, or, better in one and worse in the other, with fewer faces
-  // turned over. Region method only (the paper method is the paper's DRN alone).
+  // (toward the input's shape) after each; it gives up after four repairs in a row end unresolved.
+  // Its result is kept when it is clean and better: within the bounds where the other is not, or
+  // unresolved against it, or, both beyond the bounds, better in its largest edge ratio or in its
+  // faces beyond them (turned over, or with an edge beyond the stretch bound) and no worse in the
+  // other, or, better in one and worse in the other, with fewer faces turned over. Region method
+  // only (the paper method is the paper's DRN alone).
   bool continuation = true;
   // Garments worn together (DESIGN §5, "Layering"): when the kept attempt is unresolved, or clean
   // but beyond `bounds`, and the scene has an obstacle and two or more layers (edge-connected

@@ -93,8 +93,8 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
   if (asks.empty()) return plan;
 
   // The obstacles' welded vertices with an outward normal: each closed component's faces turned
-  // by their orientation, its sign from the volume they enclose.
-  // Each about its first triangle's first corner (volume6).
+  // by their orientation, its sign from the volume they enclose (about the component's first
+  // corner: volume6).
   std::vector<double> outward(topo.component_mesh.size(), 0.0);
   std::vector<Vec3> about(topo.component_mesh.size());
   std::vector<std::uint8_t> seen(topo.component_mesh.size(), 0);
