@@ -3,11 +3,29 @@
 #include "resolve/quality_stats.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "geometry/vec3.h"
 
 namespace untangle {
+namespace {
+
+// An edge's length ratio, longer over shorter (1 unchanged; infinite collapsed), from `before`'s
+// length `was` (nonzero) to its length now.
+double edge_ratio(double was, double now) {
+  return now <= 0.0 ? INFINITY : std::max(now / was, was / now);
+}
+
+// Whether triangle `tri`'s normal turned by more than 90 degrees from `before` to `now`.
+bool turned_over(const std::vector<Vec3>& before, const std::vector<Vec3>& now,
+                 const std::array<std::uint32_t, 3>& tri) {
+  const Vec3 n0 = cross(sub(before[tri[1]], before[tri[0]]), sub(before[tri[2]], before[tri[0]]));
+  const Vec3 n1 = cross(sub(now[tri[1]], now[tri[0]]), sub(now[tri[2]], now[tri[0]]));
+  return dot(n0, n1) < 0.0;
+}
+
+}  // namespace
 
 std::vector<QualityStats> quality_stats(const SceneTopology& topo, const std::vector<Vec3>& input,
                                         const std::vector<Role>& role) {
@@ -24,8 +42,7 @@ std::vector<QualityStats> quality_stats(const SceneTopology& topo, const std::ve
     if (role[m] != Role::kMovable || before <= 0.0) continue;
     const double after = norm(sub(topo.points[e[0]], topo.points[e[1]]));
     change[m].push_back(std::abs(after / before - 1.0));
-    const double stretch = after <= 0.0 ? INFINITY : std::max(after / before, before / after);
-    out[m].max_stretch = std::max(out[m].max_stretch, stretch);
+    out[m].max_stretch = std::max(out[m].max_stretch, edge_ratio(before, after));
   }
   for (std::size_t m = 0; m < meshes; ++m) {
     if (edges[m] > 0) mean_edge[m] /= static_cast<double>(edges[m]);
@@ -41,12 +58,8 @@ std::vector<QualityStats> quality_stats(const SceneTopology& topo, const std::ve
   }
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
     const std::uint32_t m = topo.tri_mesh[t];
-    if (role[m] != Role::kMovable) continue;
-    const auto& tri = topo.tris[t];
-    const Vec3 n0 = cross(sub(input[tri[1]], input[tri[0]]), sub(input[tri[2]], input[tri[0]]));
-    const Vec3 n1 = cross(sub(topo.points[tri[1]], topo.points[tri[0]]),
-                          sub(topo.points[tri[2]], topo.points[tri[0]]));
-    if (dot(n0, n1) < 0.0) ++out[m].flipped_faces;
+    if (role[m] == Role::kMovable && turned_over(input, topo.points, topo.tris[t]))
+      ++out[m].flipped_faces;
   }
   std::vector<Vec3> lo(meshes, Vec3{INFINITY, INFINITY, INFINITY}), hi(meshes, Vec3{-INFINITY, -INFINITY, -INFINITY});
   for (std::uint32_t v = 0; v < topo.points.size(); ++v) {
@@ -99,12 +112,6 @@ SceneTopology movable_topology(const std::vector<Mesh>& input, const std::vector
   return topo;
 }
 
-double stretch_of(const Vec3& a0, const Vec3& b0, const Vec3& a1, const Vec3& b1) {
-  const double before = norm(sub(a0, b0)), after = norm(sub(a1, b1));
-  if (!(before > 0.0)) return 1.0;
-  return after <= 0.0 ? INFINITY : std::max(after / before, before / after);
-}
-
 }  // namespace
 
 std::vector<QualityStats> measure_quality(const std::vector<Mesh>& input,
@@ -123,12 +130,11 @@ std::size_t faces_beyond_bounds(const std::vector<Mesh>& input, const std::vecto
   const std::vector<Vec3>& now = topo.points;
   std::size_t faces = 0;
   for (const auto& tri : topo.tris) {
-    const Vec3 n0 = cross(sub(before[tri[1]], before[tri[0]]), sub(before[tri[2]], before[tri[0]]));
-    const Vec3 n1 = cross(sub(now[tri[1]], now[tri[0]]), sub(now[tri[2]], now[tri[0]]));
-    bool beyond = dot(n0, n1) < 0.0;
+    bool beyond = turned_over(before, now, tri);
     for (int k = 0; k < 3 && !beyond; ++k) {
       const std::uint32_t a = tri[k], b = tri[(k + 1) % 3];
-      beyond = stretch_of(before[a], before[b], now[a], now[b]) > bounds.max_stretch;
+      const double was = norm(sub(before[a], before[b]));
+      beyond = was > 0.0 && edge_ratio(was, norm(sub(now[a], now[b]))) > bounds.max_stretch;
     }
     if (beyond) ++faces;
   }
