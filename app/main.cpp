@@ -255,16 +255,24 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
                   r.clearance, r.clean ? "clean" : "unresolved", r.crossings, r.inside_vertices,
                   r.iterations, r.kept ? " (kept)" : "");
     }
+    const auto outcome = [](const untangle::ContinuationRecord& c) {
+      return c.clean ? "clean" : c.gave_up ? "gave up" : "unresolved";
+    };
     if (result.continuation.ran) {
       const untangle::ContinuationRecord& c = result.continuation;
       std::printf(
           "continuation (deepest inside vertex %.3g, %zu obstacle vertices shrunk by up to "
           "%.3g, %d steps): %s, %zu crossings, %zu inside, stretch %.3g%s\n",
-          c.deepest, c.shrunk_vertices, c.largest_shrink, c.steps,
-          c.clean     ? "clean"
-          : c.gave_up ? "gave up"
-                      : "unresolved",
-          c.crossings, c.inside_vertices, c.max_stretch, c.kept ? " (kept)" : " (not kept)");
+          c.deepest, c.shrunk_vertices, c.largest_shrink, c.steps, outcome(c), c.crossings,
+          c.inside_vertices, c.max_stretch, c.kept ? " (kept)" : " (not kept)");
+    }
+    if (result.scaled_continuation.ran) {
+      const untangle::ContinuationRecord& c = result.scaled_continuation;
+      std::printf(
+          "scaled continuation (obstacles scaled by %.3g about their centre, %d steps): %s, %zu "
+          "crossings, %zu inside, stretch %.3g%s\n",
+          c.factor, c.steps, outcome(c), c.crossings, c.inside_vertices, c.max_stretch,
+          c.kept ? " (kept)" : " (not kept)");
     }
     if (result.layering.ran) {
       const untangle::LayeringRecord& l = result.layering;
@@ -422,8 +430,10 @@ void add_fix_options(CLI::App& cmd, CommonOptions& o, std::string& preview) {
       "Skip the continuation: where a run is left unresolved, or stretched or "
       "flipped beyond the bounds, with vertices inside a closed obstacle, fix "
       "runs once more with the obstacles shrunk inward, then grown back in "
-      "steps, repaired and relaxed after each (it adds seconds where it runs; "
-      "up to 32 repairs, giving up after four in a row end unresolved)");
+      "steps, repaired and relaxed after each, and where that is not within the "
+      "bounds once more with the obstacles scaled down about their centre (each "
+      "adds seconds where it runs; up to 32 repairs, giving up after four in a "
+      "row end unresolved)");
   cmd.add_flag("--continuation", o.continuation,
                "The continuation where a run calls for it (the default; --no-continuation "
                "turns it off)");

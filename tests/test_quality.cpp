@@ -267,6 +267,41 @@ TEST(Quality, DeepPenetrationIsReachedByTheContinuation) {
   EXPECT_LT(s.stretch, d.stretch);
 }
 
+// Deeper: the body 8% larger about its centre moves each arm sideways out of its sleeve by more
+// than the arm is thick. Shrunk along its normals the body cannot get out of male_casualsuit02
+// (the continuation gives up, and so did every retry: unresolved, an edge stretched 10 times);
+// scaled down about its centre it can, and the scaled continuation grows it back in steps. What
+// it writes is free of crossings with nothing inside, judged here on the file.
+TEST(Quality, ArmsMovedOutOfTheirSleevesAreReachedByScalingTheBody) {
+  TempDir dir;
+  const std::string body = scaled_body_six_decimals(dir, 1.08);
+  const std::string garment =
+      (fs::path(UNTANGLE_SOURCE_DIR) / "testdata" / "makehuman_more" / "male_casualsuit02.obj")
+          .string();
+  const std::string out = dir.file("fixed.obj"), report = dir.file("fixed.json");
+  const testing::RunResult r = run_cli("fix " + quote(garment) + " --obstacle " + quote(body) +
+                                       " -o " + quote(out) + " --report " + quote(report) + " -q");
+  ASSERT_TRUE(testing::intersection_free(r.exit_code)) << read_text(report);
+  const nlohmann::json j = nlohmann::json::parse(read_text(report));
+  const auto& normals = j["continuation"];
+  ASSERT_TRUE(normals.is_object());
+  EXPECT_FALSE(normals["kept"].get<bool>());
+  const auto& scaled = j["scaled_continuation"];
+  ASSERT_TRUE(scaled.is_object()) << j.dump(1);
+  EXPECT_TRUE(scaled["kept"].get<bool>());
+  EXPECT_TRUE(scaled["clean"].get<bool>());
+  EXPECT_GT(scaled["factor"].get<double>(), 0.85);
+  EXPECT_LT(scaled["factor"].get<double>(), 1.0);
+  EXPECT_EQ(scaled["runs"].front()["shrink"].get<double>(), 1.0);
+  EXPECT_EQ(scaled["runs"].back()["shrink"].get<double>(), 0.0);
+  const Mesh input = read_meshes(garment, Role::kMovable).at(0);
+  const Mesh output = read_meshes(out, Role::kMovable).at(0);
+  const Mesh obstacle = read_meshes(body, Role::kObstacle).at(0);
+  ASSERT_GT(cgal_reference::inside_count(input, obstacle), 100u);
+  EXPECT_EQ(garment_pairs(output, obstacle), 0u);
+  EXPECT_EQ(cgal_reference::inside_count(output, obstacle), 0u);
+}
+
 TEST(Quality, RelaxationSmoothsWhatTheRepairPushed) {
   TempDir dir;
   TempDir other;

@@ -86,6 +86,9 @@ struct FixOptions {
   // continuation (DESIGN §5): the obstacles shrunk inward along their normals until the movable
   // meshes are outside them, then grown back to their true shape in steps, repaired and relaxed
   // (toward the input's shape) after each; it gives up after four repairs in a row end unresolved.
+  // Where its result, or the attempt kept, is still not within the bounds, a second one runs with
+  // the obstacles scaled down about their centre instead (a limb moved out of its sleeve by more
+  // than its thickness is not reached along normals; FixResult::scaled_continuation).
   // Its result is kept when it is clean and better: within the bounds where the other is not, or
   // unresolved against it, or, both beyond the bounds, better in its largest edge ratio or in its
   // faces beyond them (turned over, or with an edge beyond the stretch bound) and no worse in the
@@ -180,6 +183,7 @@ struct ContinuationStep {
 // The continuation (FixOptions::continuation), when it ran.
 struct ContinuationRecord {
   bool ran = false;
+  double factor = 0.0;        // the scaled continuation's scale at full shrink; 0 along normals
   int steps = 0;              // repairs run: the obstacles shrunk, then grown back, the last at
                               // their true shape
   double deepest = 0.0;       // deepest movable vertex inside an obstacle at the start, scene units
@@ -271,6 +275,9 @@ struct FixResult {
   std::vector<RetryRecord> retries;
   double clearance = 0.0;  // the clearance of the attempt kept
   ContinuationRecord continuation;
+  // The continuation with the obstacles scaled about their centre, where the one along their
+  // normals was not within the bounds.
+  ContinuationRecord scaled_continuation;
   LayeringRecord layering;
   // The final state, detected as `check` detects it (numbered by its own positions, where the
   // repair numbered by the input's: an exact degeneracy can be decided the other way), was not

@@ -21,7 +21,7 @@ namespace untangle {
 // 6: `reverted` in the fix report.
 // 7: relax_sweeps among the fix options.
 // 8: `layering` in the fix report and among its options. 9: the layering's `orders`.
-inline constexpr int kReportSchemaVersion = 10;
+inline constexpr int kReportSchemaVersion = 11;
 
 struct CheckTimingsMs {
   double load = 0.0, detect = 0.0, contours = 0.0, total = 0.0;

@@ -47,6 +47,25 @@ Json continuation_steps_json(const std::vector<ContinuationStep>& steps) {
   return runs;
 }
 
+// A continuation's record (null when it did not run); `factor` only for the scaled one.
+Json continuation_json(const ContinuationRecord& c) {
+  if (!c.ran) return nullptr;
+  Json e;
+  if (c.factor > 0.0) e["factor"] = c.factor;
+  e["steps"] = c.steps;
+  e["deepest"] = c.deepest;
+  e["largest_shrink"] = c.largest_shrink;
+  e["shrunk_vertices"] = c.shrunk_vertices;
+  e["clean"] = c.clean;
+  e["crossings"] = c.crossings;
+  e["inside_vertices"] = c.inside_vertices;
+  e["max_stretch"] = c.max_stretch;
+  e["kept"] = c.kept;
+  e["gave_up"] = c.gave_up;
+  e["runs"] = continuation_steps_json(c.runs);
+  return e;
+}
+
 Json layers_json(const std::vector<LayerRecord>& layers) {
   Json all = Json::array();
   for (const LayerRecord& layer : layers) {
@@ -207,24 +226,8 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
     retries.push_back(e);
   }
   j["retries"] = retries;
-  if (result.continuation.ran) {
-    const ContinuationRecord& c = result.continuation;
-    Json e;
-    e["steps"] = c.steps;
-    e["deepest"] = c.deepest;
-    e["largest_shrink"] = c.largest_shrink;
-    e["shrunk_vertices"] = c.shrunk_vertices;
-    e["clean"] = c.clean;
-    e["crossings"] = c.crossings;
-    e["inside_vertices"] = c.inside_vertices;
-    e["max_stretch"] = c.max_stretch;
-    e["kept"] = c.kept;
-    e["gave_up"] = c.gave_up;
-    e["runs"] = continuation_steps_json(c.runs);
-    j["continuation"] = e;
-  } else {
-    j["continuation"] = nullptr;
-  }
+  j["continuation"] = continuation_json(result.continuation);
+  j["scaled_continuation"] = continuation_json(result.scaled_continuation);
   if (result.layering.ran) {
     const LayeringRecord& l = result.layering;
     Json e;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 #include "geometry/point_grid.h"
 #include "geometry/vec3.h"
@@ -12,6 +13,7 @@
 #include "resolve/scene_measures.h"
 #include "resolve/surface_queries.h"
 #include "topology/scene_topology.h"
+#include "untangle/intersections.h"
 
 namespace untangle {
 namespace {
@@ -45,6 +47,25 @@ constexpr int kMaxSteps = 16;
 // most one repair in a row had ended unresolved (the six MakeHuman garments on their bodies x 1.02
 // and x 1.05).
 constexpr int kGiveUpAfter = 4;
+// The scaled plan's factors: 1 - k/64 for k = 1 to kScaleLadder, then halved steps around the
+// best down to kScaleFinest (powers of two: the factors are exact).
+constexpr double kScaleStep = 1.0 / 64.0;
+constexpr int kScaleLadder = 10;
+constexpr double kScaleFinest = 1.0 / 512.0;
+
+// The mean edge length of each of the scene's `count` meshes (0 for one without edges).
+std::vector<double> mean_edges(const SceneTopology& topo, std::size_t count) {
+  std::vector<double> sum(count, 0.0);
+  std::vector<std::size_t> edges(count, 0);
+  for (const auto& e : topo.edges) {
+    const std::uint32_t m = topo.vertex_mesh[e[0]];
+    sum[m] += norm(sub(topo.points[e[0]], topo.points[e[1]]));
+    ++edges[m];
+  }
+  for (std::size_t m = 0; m < count; ++m)
+    if (edges[m] > 0) sum[m] /= static_cast<double>(edges[m]);
+  return sum;
+}
 
 // A movable vertex inside an obstacle: the closest point on the obstacle, and how far to shrink
 // there.
@@ -162,6 +183,84 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
   return plan;
 }
 
+ContinuationPlan plan_scaled_continuation(const std::vector<Mesh>& meshes,
+                                          const FixOptions& options) {
+  ContinuationPlan plan;
+  Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+  bool any_obstacle = false, any_movable = false;
+  for (const Mesh& m : meshes) {
+    if (m.role != Role::kObstacle) {
+      any_movable = any_movable || m.role == Role::kMovable;
+      continue;
+    }
+    for (const Vec3& p : m.positions)
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], p[k]);
+        hi[k] = std::max(hi[k], p[k]);
+      }
+    any_obstacle = any_obstacle || !m.positions.empty();
+  }
+  if (!any_obstacle || !any_movable) return plan;
+  const Vec3 centre = scale(add(lo, hi), 0.5);
+  double movable_edge = INFINITY;
+  const std::vector<double> mean_edge = mean_edges(build_topology(meshes), meshes.size());
+  for (std::size_t m = 0; m < meshes.size(); ++m)
+    if (meshes[m].role == Role::kMovable && mean_edge[m] > 0.0)
+      movable_edge = std::min(movable_edge, mean_edge[m]);
+  if (!std::isfinite(movable_edge)) return plan;
+  DetectOptions detect;
+  detect.threads = options.threads;
+  detect.skip_obstacle_pairs = true;
+  detect.separation = false;
+  // Crossings against the obstacles and inside vertices with the obstacles scaled by `factor`.
+  const auto illegal_at = [&](double factor) {
+    std::vector<Mesh> trial = meshes;
+    for (Mesh& m : trial) {
+      if (m.role != Role::kObstacle) continue;
+      for (Vec3& p : m.positions) p = add(centre, scale(sub(p, centre), factor));
+    }
+    const Intersections found = find_intersections(trial, detect);
+    std::size_t against = 0;
+    for (const Crossing& c : found.crossings)
+      if (trial[c.edge_mesh].role == Role::kObstacle || trial[c.face_mesh].role == Role::kObstacle)
+        ++against;
+    return against + found.counts.inside_vertices;
+  };
+  std::size_t best_illegal = SIZE_MAX;
+  double best_factor = 0.0;
+  const auto consider = [&](double factor) {
+    const std::size_t illegal = illegal_at(factor);
+    if (illegal < best_illegal) {
+      best_illegal = illegal;
+      best_factor = factor;
+    }
+  };
+  for (int k = 1; k <= kScaleLadder; ++k) consider(1.0 - kScaleStep * k);
+  for (double step = 0.5 * kScaleStep; step >= kScaleFinest && best_illegal > 0; step *= 0.5) {
+    const double around = best_factor;
+    if (around + step < 1.0) consider(around + step);
+    consider(around - step);
+  }
+  if (best_factor > 0.0) {
+    const double factor = best_factor;
+    plan.inward.assign(meshes.size(), {});
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+      if (meshes[m].role != Role::kObstacle) continue;
+      plan.inward[m].resize(meshes[m].positions.size());
+      for (std::size_t i = 0; i < meshes[m].positions.size(); ++i) {
+        plan.inward[m][i] = scale(sub(meshes[m].positions[i], centre), factor - 1.0);
+        plan.largest_shrink = std::max(plan.largest_shrink, norm(plan.inward[m][i]));
+        ++plan.shrunk_vertices;
+      }
+    }
+    plan.factor = factor;
+    plan.movable_edge = movable_edge;
+    plan.steps = continuation_steps(plan.largest_shrink, movable_edge);
+    plan.give_up_after = kGiveUpAfter;
+  }
+  return plan;
+}
+
 int continuation_steps(double largest_shrink, double movable_edge) {
   return std::clamp(static_cast<int>(std::ceil(largest_shrink / (kStepEdges * movable_edge))) + 1,
                     kMinSteps, kMaxSteps);
@@ -171,16 +270,8 @@ DisplacementStats displacement_against(const std::vector<Mesh>& from,
                                        const std::vector<Mesh>& meshes) {
   DisplacementStats stats;
   double sum = 0.0;
-  const SceneTopology topo = build_topology(from);
-  std::vector<double> mean_edge(meshes.size(), 0.0);
-  std::vector<std::size_t> edges(meshes.size(), 0);
-  for (const auto& e : topo.edges) {
-    const std::uint32_t m = topo.vertex_mesh[e[0]];
-    mean_edge[m] += norm(sub(topo.points[e[0]], topo.points[e[1]]));
-    ++edges[m];
-  }
+  const std::vector<double> mean_edge = mean_edges(build_topology(from), meshes.size());
   for (std::size_t m = 0; m < meshes.size(); ++m) {
-    if (edges[m] > 0) mean_edge[m] /= static_cast<double>(edges[m]);
     if (meshes[m].role != Role::kMovable) continue;
     for (std::size_t i = 0; i < meshes[m].positions.size(); ++i) {
       if (meshes[m].positions[i] == from[m].positions[i]) continue;

@@ -25,6 +25,7 @@ struct ContinuationPlan {
   // Repairs ending unresolved one after the other that end the run unresolved (the obstacles
   // back at their true shape); 0: never.
   int give_up_after = 0;
+  double factor = 0.0;  // a scaled plan's: the obstacles' scale at full shrink (0: along normals)
 };
 
 // The plan for meshes at their input positions (canonical order, as run_repair takes them).
@@ -39,6 +40,17 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
 
 // The steps of a plan whose largest inward move is `largest_shrink`: that move in steps of
 // kStepEdges mean edges `movable_edge` of the movable meshes, between kMinSteps and kMaxSteps.
+// The plan of the scaled continuation: every obstacle scaled about the centre of the obstacles'
+// bounding box, by the factor below 1 (1 - k/64 for k = 1 to 10, then refined by halved steps
+// down to 1/512 around the best) at which the fewest crossings against the obstacles and inside
+// vertices remain. A garment made for a slimmer body, or a body grown from the one the garment
+// was made on, sits outside the body scaled down where the shrink along normals cannot get it
+// out: a limb moved sideways out of its sleeve by more than its thickness. The inward move of a
+// vertex is its way to the scaled position, so that the steps are the body growing back. No plan
+// (steps 0) without an obstacle or a movable mesh.
+ContinuationPlan plan_scaled_continuation(const std::vector<Mesh>& meshes,
+                                          const FixOptions& options);
+
 int continuation_steps(double largest_shrink, double movable_edge);
 
 // Runs the plan on `meshes` (input positions in, result out; the obstacles end at their input

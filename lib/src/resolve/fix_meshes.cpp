@@ -100,6 +100,10 @@ void adopt(FixResult& r, std::vector<Mesh>& attempt, double clearance, FixResult
     r.continuation = std::move(result.continuation);
     r.continuation.kept = false;
   }
+  if (!r.scaled_continuation.ran) {
+    r.scaled_continuation = std::move(result.scaled_continuation);
+    r.scaled_continuation.kept = false;
+  }
   if (!r.layering.ran) {
     r.layering = std::move(result.layering);
     r.layering.kept = false;
@@ -298,30 +302,47 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
       if (!shape_within_bounds(q, options.bounds)) return true;
     return false;
   };
+  // A plan run as the continuation: kept where better than the attempt kept so far, recorded
+  // either way.
+  const auto continue_along = [&](const ContinuationPlan& plan, ContinuationRecord& record) {
+    std::vector<Mesh> attempt = start;
+    FixResult r = run_continuation(attempt, plan, options, work_pins, round, watch, record.runs, 4,
+                                   &record.gave_up);
+    record.ran = true;
+    record.factor = plan.factor;
+    record.steps = plan.steps;
+    record.deepest = plan.deepest;
+    record.largest_shrink = plan.largest_shrink;
+    record.shrunk_vertices = plan.shrunk_vertices;
+    record.clean = r.clean;
+    record.crossings = r.after.crossings;
+    record.inside_vertices = r.after.inside_vertices;
+    record.max_stretch = largest_stretch(r);
+    if (!cancelled && better(r, attempt, result, work, start, options.bounds)) {
+      record.kept = true;
+      adopt(r, attempt, options.clearance, result, work);
+    } else {
+      add_times(r, result);
+    }
+  };
   if (options.continuation && options.method == FixMethod::kRegion && !cancelled &&
       misshapen(result)) {
     const ContinuationPlan plan = plan_continuation(start, options, work_pins);
     if (plan.steps > 0) {
-      std::vector<Mesh> attempt = start;
       ContinuationRecord record;
-      FixResult r = run_continuation(attempt, plan, options, work_pins, round, watch, record.runs,
-                                     4, &record.gave_up);
-      record.ran = true;
-      record.steps = plan.steps;
-      record.deepest = plan.deepest;
-      record.largest_shrink = plan.largest_shrink;
-      record.shrunk_vertices = plan.shrunk_vertices;
-      record.clean = r.clean;
-      record.crossings = r.after.crossings;
-      record.inside_vertices = r.after.inside_vertices;
-      record.max_stretch = largest_stretch(r);
-      if (!cancelled && better(r, attempt, result, work, start, options.bounds)) {
-        record.kept = true;
-        adopt(r, attempt, options.clearance, result, work);
-      } else {
-        add_times(r, result);
+      continue_along(plan, record);
+      result.continuation = std::move(record);
+    }
+    // Where the obstacles shrunk along their normals did not reach a result within the bounds:
+    // the obstacles scaled down about their centre and grown back (plan_scaled_continuation).
+    if (!cancelled && plan.steps > 0 && rank(result, options.bounds) > 0) {
+      const ContinuationPlan scaled = plan_scaled_continuation(start, options);
+      if (scaled.steps > 0) {
+        ContinuationRecord record;
+        continue_along(scaled, record);
+        if (record.kept) result.continuation.kept = false;
+        result.scaled_continuation = std::move(record);
       }
-      result.continuation = record;
     }
   }
 
