@@ -431,7 +431,8 @@ void add_fix_options(CLI::App& cmd, CommonOptions& o, std::string& preview) {
       "flipped beyond the bounds, with vertices inside a closed obstacle, fix "
       "runs once more with the obstacles shrunk inward, then grown back in "
       "steps, repaired and relaxed after each, and where that is not within the "
-      "bounds once more with the obstacles scaled down about their centre (each "
+      "bounds and one mesh moves, once more with the obstacles scaled down about "
+      "their centre (each "
       "adds seconds where it runs; up to 32 repairs, giving up after four in a "
       "row end unresolved)");
   cmd.add_flag("--continuation", o.continuation,

@@ -86,9 +86,10 @@ struct FixOptions {
   // continuation (DESIGN §5): the obstacles shrunk inward along their normals until the movable
   // meshes are outside them, then grown back to their true shape in steps, repaired and relaxed
   // (toward the input's shape) after each; it gives up after four repairs in a row end unresolved.
-  // Where its result, or the attempt kept, is still not within the bounds, a second one runs with
-  // the obstacles scaled down about their centre instead (a limb moved out of its sleeve by more
-  // than its thickness is not reached along normals; FixResult::scaled_continuation).
+  // Where its result, or the attempt kept, is still not within the bounds and there is one
+  // movable mesh, a second one runs with the obstacles scaled down about their centre instead (a
+  // limb moved out of its sleeve by more than its thickness is not reached along normals;
+  // FixResult::scaled_continuation).
   // Its result is kept when it is clean and better: within the bounds where the other is not, or
   // unresolved against it, or, both beyond the bounds, better in its largest edge ratio or in its
   // faces beyond them (turned over, or with an edge beyond the stretch bound) and no worse in the

@@ -335,7 +335,10 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     }
     // Where the obstacles shrunk along their normals did not reach a result within the bounds:
     // the obstacles scaled down about their centre and grown back (plan_scaled_continuation).
-    if (!cancelled && plan.steps > 0 && rank(result, options.bounds) > 0) {
+    // One movable mesh only: garments worn together are the layering's (on the six MakeHuman
+    // pairs the continuation along normals resolves none and costs 6 to 10 s each already).
+    if (!cancelled && plan.steps > 0 && movable_meshes(start) == 1 &&
+        rank(result, options.bounds) > 0) {
       const ContinuationPlan scaled = plan_scaled_continuation(start, options);
       if (scaled.steps > 0) {
         ContinuationRecord record;
