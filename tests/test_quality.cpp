@@ -269,9 +269,9 @@ TEST(Quality, DeepPenetrationIsReachedByTheContinuation) {
 
 // Deeper: the body 8% larger about its centre moves each arm sideways out of its sleeve by more
 // than the arm is thick. Shrunk along its normals the body cannot get out of male_casualsuit02
-// (the continuation gives up, and so did every retry: unresolved, an edge stretched 10 times);
-// scaled down about its centre it can, and the scaled continuation grows it back in steps. What
-// it writes is free of crossings with nothing inside, judged here on the file.
+// (before the scaled continuation this run ended unresolved: the continuation gave up, and so did
+// every retry); scaled down about its centre it can, and the scaled continuation grows it back in
+// steps. What it writes is free of crossings with nothing inside, judged here on the file.
 TEST(Quality, ArmsMovedOutOfTheirSleevesAreReachedByScalingTheBody) {
   TempDir dir;
   const std::string body = scaled_body_six_decimals(dir, 1.08);

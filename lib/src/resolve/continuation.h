@@ -38,8 +38,6 @@ struct ContinuationPlan {
 ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOptions& options,
                                    const PinMask& pins);
 
-// The steps of a plan whose largest inward move is `largest_shrink`: that move in steps of
-// kStepEdges mean edges `movable_edge` of the movable meshes, between kMinSteps and kMaxSteps.
 // The plan of the scaled continuation: every obstacle scaled about the centre of the obstacles'
 // bounding box, by the factor below 1 (1 - k/64 for k = 1 to 10, then refined by halved steps
 // down to 1/512 around the best) at which the fewest crossings against the obstacles and inside
@@ -51,6 +49,8 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
 ContinuationPlan plan_scaled_continuation(const std::vector<Mesh>& meshes,
                                           const FixOptions& options);
 
+// The steps of a plan whose largest inward move is `largest_shrink`: that move in steps of
+// kStepEdges mean edges `movable_edge` of the movable meshes, between kMinSteps and kMaxSteps.
 int continuation_steps(double largest_shrink, double movable_edge);
 
 // Runs the plan on `meshes` (input positions in, result out; the obstacles end at their input
