@@ -212,12 +212,14 @@ ContinuationPlan plan_scaled_continuation(const std::vector<Mesh>& meshes,
   detect.threads = options.threads;
   detect.skip_obstacle_pairs = true;
   detect.separation = false;
-  // Crossings against the obstacles and inside vertices with the obstacles scaled by `factor`.
+  // Crossings against the obstacles and inside vertices with the obstacles scaled by `factor`
+  // (the scene copied once; each trial rewrites the obstacles' positions from `meshes`).
+  std::vector<Mesh> trial = meshes;
   const auto illegal_at = [&](double factor) {
-    std::vector<Mesh> trial = meshes;
-    for (Mesh& m : trial) {
-      if (m.role != Role::kObstacle) continue;
-      for (Vec3& p : m.positions) p = add(centre, scale(sub(p, centre), factor));
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+      if (meshes[m].role != Role::kObstacle) continue;
+      for (std::size_t i = 0; i < meshes[m].positions.size(); ++i)
+        trial[m].positions[i] = add(centre, scale(sub(meshes[m].positions[i], centre), factor));
     }
     const Intersections found = find_intersections(trial, detect);
     std::size_t against = 0;

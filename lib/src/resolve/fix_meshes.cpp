@@ -342,8 +342,7 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
       const ContinuationPlan scaled = plan_scaled_continuation(start, options);
       if (scaled.steps > 0) {
         ContinuationRecord record;
-        continue_along(scaled, record);
-        if (record.kept) result.continuation.kept = false;
+        continue_along(scaled, record);  // kept: adopt() marks the first one not kept
         result.scaled_continuation = std::move(record);
       }
     }
