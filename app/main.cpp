@@ -274,6 +274,19 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
           c.factor, c.steps, outcome(c), c.crossings, c.inside_vertices, c.max_stretch,
           c.kept ? " (kept)" : " (not kept)");
     }
+    if (result.piece_moves.ran) {
+      const untangle::PieceMoveRecord& p = result.piece_moves;
+      const std::vector<std::string> labels = labels_of(run.written);
+      const char* repaired = p.moved == 0 ? "not run" : p.clean ? "clean" : "unresolved";
+      const char* kept = p.moved == 0 ? "" : p.kept ? " (kept)" : " (not kept)";
+      std::printf(
+          "pieces moved whole: %zu of %zu tangled (longest move %.3g), then repaired: %s%s\n",
+          p.moved, p.tangled, p.largest_move, repaired, kept);
+      for (const untangle::PieceMove& move : p.pieces)
+        std::printf("  %s piece at vertex %u moved by (%.6g, %.6g, %.6g)\n",
+                    move.mesh < labels.size() ? labels[move.mesh].c_str() : "?", move.vertex + 1,
+                    move.shift[0], move.shift[1], move.shift[2]);
+    }
     if (result.layering.ran) {
       const untangle::LayeringRecord& l = result.layering;
       const std::vector<std::string> labels = labels_of(run.written);
@@ -443,6 +456,11 @@ void add_fix_options(CLI::App& cmd, CommonOptions& o, std::string& preview) {
                         "unresolved or beyond the bounds (each alone on the obstacles, then each "
                         "over the ones nearer them, those grown back from the obstacles' surface "
                         "in steps)");
+  cmd.add_flag_callback(
+      "--no-piece-moves", [&o] { o.piece_moves = false; },
+      "Do not move small interlocked pieces (at most 2048 triangles) whole when "
+      "the run is left unresolved (each by the shortest translation found that "
+      "clears it, then the repair once more)");
   cmd.add_option("--max-stretch", o.bounds.max_stretch,
                  "Quality bound: no edge of a movable mesh longer or shorter than X times its input "
                  "length" + default_is(o.bounds.max_stretch))

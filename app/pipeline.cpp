@@ -203,6 +203,7 @@ PipelineRun run_pipeline(const CommonOptions& o, const FixProgress& progress) {
   options.retries = o.retries;
   options.continuation = o.continuation;
   options.layering = o.layering;
+  options.piece_moves = o.piece_moves;
   options.bounds = o.bounds;
   options.threads = o.threads;
   std::function<Vec3(const Vec3&)> rounding;

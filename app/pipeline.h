@@ -45,6 +45,7 @@ struct CommonOptions {
   int retries = FixOptions{}.retries;
   bool continuation = FixOptions{}.continuation;
   bool layering = FixOptions{}.layering;
+  bool piece_moves = FixOptions{}.piece_moves;
   QualityBounds bounds;
   bool overwrite = false;
   bool allow_loss = false;  // fix --allow-loss: write although the output drops what export_loss names

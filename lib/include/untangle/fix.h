@@ -110,6 +110,16 @@ struct FixOptions {
   // the retries, which then run only where it is not clean within `bounds`. Region method only;
   // `simulate`'s corrections leave it out.
   bool layering = true;
+  // Pieces moved whole (DESIGN §5, "Pieces moved whole"): when the kept attempt is unresolved and
+  // every piece it leaves crossing another piece or an obstacle (or with a vertex inside one) is
+  // small (at most 2,048 triangles), free to move (no pinned vertex, none shared with an
+  // obstacle), each such piece is moved whole, smallest first, by the shortest translation found
+  // that clears it (lengths of 1/16 to 1/2 of its bounding-box diagonal, 26 directions of its
+  // principal axes), and the repair runs once more from there: a ring through a tube's wall, a
+  // torus through a sheet, two links of a chain, which no local move frees. Kept as the
+  // continuation is (clean and better); moved beyond the move bound, it reports `distorted`.
+  // Region method only; `simulate`'s corrections leave it out.
+  bool piece_moves = true;
   // What `distorted` means to the continuation's and the layering's trigger and choice (the CLI
   // passes its --max-stretch, --max-flips and --max-move).
   QualityBounds bounds;
@@ -198,6 +208,25 @@ struct ContinuationRecord {
   std::vector<ContinuationStep> runs;  // the steps in order
 };
 
+// One piece moved whole: mesh (input index), its lowest input vertex (0-based) and the
+// translation, scene units.
+struct PieceMove {
+  std::uint32_t mesh = 0;
+  std::uint32_t vertex = 0;
+  Vec3 shift{};
+};
+
+// Pieces moved whole (FixOptions::piece_moves), when the search ran.
+struct PieceMoveRecord {
+  bool ran = false;
+  std::size_t tangled = 0;    // pieces left crossing another or an obstacle, or inside one
+  std::size_t moved = 0;      // of those, moved whole (a clear translation was found)
+  double largest_move = 0.0;  // the longest translation, scene units
+  bool clean = false;         // the repair after the moves ended with no crossing, nothing inside
+  bool kept = false;          // its positions are the result
+  std::vector<PieceMove> pieces;  // the pieces moved, by mesh and lowest vertex
+};
+
 // One layer laid over those inside it (FixOptions::layering): an edge-connected piece of a
 // movable mesh (the top and the trousers of one garment file are two layers).
 struct LayerRecord {
@@ -280,6 +309,7 @@ struct FixResult {
   // normals was not within the bounds.
   ContinuationRecord scaled_continuation;
   LayeringRecord layering;
+  PieceMoveRecord piece_moves;
   // The final state, detected as `check` detects it (numbered by its own positions, where the
   // repair numbered by the input's: an exact degeneracy can be decided the other way), was not
   // clean and was worse than the input (more crossings of a kind, more inside vertices, or a

@@ -20,8 +20,10 @@ namespace untangle {
 // repeated_faces, coplanar_pairs), and repeated faces left out of detection.
 // 6: `reverted` in the fix report.
 // 7: relax_sweeps among the fix options.
-// 8: `layering` in the fix report and among its options. 9: the layering's `orders`.
-inline constexpr int kReportSchemaVersion = 11;
+// 8: `layering` in the fix report and among its options. 9: the layering's `orders`. 10: the
+// continuation's `gave_up`. 11: `scaled_continuation`. 12: `piece_moves` in the fix report and
+// among its options.
+inline constexpr int kReportSchemaVersion = 12;
 
 struct CheckTimingsMs {
   double load = 0.0, detect = 0.0, contours = 0.0, total = 0.0;

@@ -206,6 +206,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   opts["retries"] = options.retries;
   opts["continuation"] = options.continuation;
   opts["layering"] = options.layering;
+  opts["piece_moves"] = options.piece_moves;
   opts["max_stretch"] = bounds.max_stretch;
   opts["max_flips"] = bounds.max_flips;
   opts["max_move"] = bounds.max_move;
@@ -228,6 +229,22 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   j["retries"] = retries;
   j["continuation"] = continuation_json(result.continuation);
   j["scaled_continuation"] = continuation_json(result.scaled_continuation);
+  if (result.piece_moves.ran) {
+    const PieceMoveRecord& p = result.piece_moves;
+    Json e;
+    e["tangled"] = p.tangled;
+    e["moved"] = p.moved;
+    e["largest_move"] = p.largest_move;
+    e["clean"] = p.clean;
+    e["kept"] = p.kept;
+    Json pieces = Json::array();
+    for (const PieceMove& move : p.pieces)
+      pieces.push_back({{"mesh", move.mesh}, {"vertex", move.vertex}, {"shift", move.shift}});
+    e["pieces"] = pieces;
+    j["piece_moves"] = e;
+  } else {
+    j["piece_moves"] = nullptr;
+  }
   if (result.layering.ran) {
     const LayeringRecord& l = result.layering;
     Json e;

@@ -1,7 +1,9 @@
-// fix_meshes: the repair on the canonical scene (canonical_order.h), mapped back to the order of the
-// meshes and their vertices, retried with a larger clearance when it ends unresolved
-// (FixOptions::retries), continued when asked (FixOptions::continuation), and layered when
-// garments worn together are left unresolved or distorted (FixOptions::layering).
+// fix_meshes: the repair on the canonical scene (canonical_order.h), mapped back to the order of
+// the meshes and their vertices, retried with a larger clearance when it ends unresolved
+// (FixOptions::retries), continued when asked (FixOptions::continuation), layered when
+// garments worn together are left unresolved or distorted (FixOptions::layering), and repaired
+// once more with small interlocked pieces moved whole when still unresolved
+// (FixOptions::piece_moves).
 #include <algorithm>
 #include <memory>
 #include <utility>
@@ -11,6 +13,7 @@
 #include "resolve/continuation.h"
 #include "resolve/inside_vertices.h"
 #include "resolve/layering.h"
+#include "resolve/piece_moves.h"
 #include "resolve/quality_stats.h"
 #include "resolve/repair_loop.h"
 #include "untangle/fix.h"
@@ -107,6 +110,10 @@ void adopt(FixResult& r, std::vector<Mesh>& attempt, double clearance, FixResult
   if (!r.layering.ran) {
     r.layering = std::move(result.layering);
     r.layering.kept = false;
+  }
+  if (!r.piece_moves.ran) {
+    r.piece_moves = result.piece_moves;
+    r.piece_moves.kept = false;
   }
   r.before = result.before;
   add_times(result, r);
@@ -206,10 +213,13 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
   }
   const std::vector<Mesh>* toward = rest != nullptr ? &rest_work : nullptr;
 
-  // Retries and the continuation start from the input again: keep it while there may be one.
+  // Retries, the continuation, the layering and pieces moved whole start from the input again:
+  // keep it while there may be one.
   const bool may_layer = options.layering && options.method == FixMethod::kRegion;
   const std::vector<Mesh> start =
-      options.retries > 0 || options.continuation || may_layer ? work : std::vector<Mesh>{};
+      options.retries > 0 || options.continuation || may_layer || options.piece_moves
+          ? work
+          : std::vector<Mesh>{};
   bool cancelled = false;
   const FixProgress watch = [&](const IterationRecord& record) {
     if (progress && !progress(record)) cancelled = true;
@@ -354,6 +364,31 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
              worth_layering(start, work, options.threads)) {
     lay_garments();
     offer_layering();
+  }
+
+  // Pieces moved whole (piece_moves.h) where the kept attempt is unresolved: the moves from the
+  // input, then one repair from there, its shape and moves measured against the input.
+  if (options.piece_moves && options.method == FixMethod::kRegion && !cancelled && !result.clean) {
+    std::vector<Mesh> attempt = start;
+    std::vector<std::vector<std::uint32_t>> input_vertex;
+    for (const CanonicalMesh& c : scene.renumbering) input_vertex.push_back(c.vertex_order);
+    PieceMoveRecord record =
+        move_pieces_whole(attempt, work, options, work_pins, round, input_vertex);
+    for (PieceMove& move : record.pieces) move.mesh = scene.mesh_order[move.mesh];
+    if (record.moved > 0) {
+      FixResult r = run_repair(attempt, options, work_pins, round, watch, toward);
+      r.quality = measure_quality(start, attempt);
+      r.displacement = displacement_against(start, attempt);
+      record.clean = r.clean;
+      if (!cancelled && better(r, attempt, result, work, start, options.bounds)) {
+        record.kept = true;
+        r.piece_moves = record;
+        adopt(r, attempt, options.clearance, result, work);
+      } else {
+        add_times(r, result);
+      }
+    }
+    result.piece_moves = record;
   }
 
   counts_in_input_order(scene, result.before);

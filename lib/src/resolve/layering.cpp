@@ -222,8 +222,10 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
   FixOptions alone = options;
   alone.layering = false;
   // The layering's own continuation grows the inner layers back (3.); one inside each garment's
-  // repair alone would run before it, on every pair, for seconds each.
+  // repair alone would run before it, on every pair, for seconds each. Pieces moved whole are
+  // the whole run's last resort, not a layer's.
   alone.continuation = false;
+  alone.piece_moves = false;
   for (std::uint32_t m : movable) {
     if (cancelled) break;
     std::vector<Mesh> scene{meshes[m]};

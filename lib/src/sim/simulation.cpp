@@ -158,10 +158,12 @@ FrameRecord Simulation::advance(const std::function<Vec3(const Vec3&)>& round) {
       } else {
         // A step's contact is shallow: neither the layering (garments laid one at a time over a
         // body from the input) nor the continuation (the obstacles shrunk and grown back) is
-        // what corrects it, and each would redo the step's whole scene.
+        // what corrects it, and each would redo the step's whole scene; a piece moved whole
+        // would jump, and its velocity with it.
         FixOptions correction = o.fix;
         correction.layering = false;
         correction.continuation = false;
+        correction.piece_moves = false;
         const FixResult fixed = fix_meshes_toward(s.scene.meshes, &s.relax_toward, correction,
                                                   s.scene.pins, round, {});
         record.crossings_before += fixed.before.crossings;
