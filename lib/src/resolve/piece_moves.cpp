@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
-#include <numeric>
+#include <vector>
 
 #include "detect/detect_crossings.h"
 #include "detect/triangle_bvh.h"
@@ -59,7 +59,7 @@ std::vector<Vec3> piece_directions(const std::vector<Vec3>& points,
 // The search's view of one scene: its topology at the positions so far, the obstacles' inside.
 class PieceSearch {
  public:
-  PieceSearch(SceneTopology& topo, const ObstacleWinding& winding)
+  PieceSearch(const SceneTopology& topo, const ObstacleWinding& winding)
       : topo_(topo), winding_(winding) {}
 
   // Whether the triangles `tris` (one piece, its vertices `vertices`) cross none of `others`
@@ -87,7 +87,7 @@ class PieceSearch {
   }
 
  private:
-  SceneTopology& topo_;
+  const SceneTopology& topo_;
   const ObstacleWinding& winding_;
   std::vector<std::uint32_t> found_;
 };
