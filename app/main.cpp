@@ -458,9 +458,9 @@ void add_fix_options(CLI::App& cmd, CommonOptions& o, std::string& preview) {
                         "in steps)");
   cmd.add_flag_callback(
       "--no-piece-moves", [&o] { o.piece_moves = false; },
-      "Do not move small interlocked pieces (at most 2048 triangles) whole when "
-      "the run is left unresolved (each by the shortest translation found that "
-      "clears it, then the repair once more)");
+      "Do not move small interlocked pieces whole when the run is left unresolved (pieces of at "
+      "most 2048 triangles tangled only with things as small, each by the shortest translation "
+      "found that clears it, then the repair once more)");
   cmd.add_option("--max-stretch", o.bounds.max_stretch,
                  "Quality bound: no edge of a movable mesh longer or shorter than X times its input "
                  "length" + default_is(o.bounds.max_stretch))

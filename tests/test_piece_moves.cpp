@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "resolve/piece_moves.h"
@@ -27,13 +28,14 @@ using testing::TempDir;
 
 // Random tangle 269 (tests/scenes/random_tangles.h): an open tube (movable, 8 x 3 vertices) whose
 // wall an obstacle torus passes through near its rim. Scaled by `scale`; the tube's triangles
-// midpoint-subdivided `levels` times.
-std::vector<Mesh> ring_through_tube(double scale = 1.0, int levels = 0) {
+// midpoint-subdivided `levels` times, the ring's `ring_levels` times.
+std::vector<Mesh> ring_through_tube(double scale = 1.0, int levels = 0, int ring_levels = 0) {
   std::vector<Mesh> meshes = scenes::scene_meshes(scenes::random_tangle(269).scene);
-  if (levels > 0) {
-    Mesh fine = scenes::subdivide_midpoint(meshes[0], levels);
-    fine.role = meshes[0].role;
-    meshes[0] = fine;
+  for (auto [m, l] : {std::pair<int, int>{0, levels}, std::pair<int, int>{1, ring_levels}}) {
+    if (l == 0) continue;
+    Mesh fine = scenes::subdivide_midpoint(meshes[m], l);
+    fine.role = meshes[m].role;
+    meshes[m] = fine;
   }
   for (Mesh& m : meshes)
     for (Vec3& p : m.positions)
@@ -122,16 +124,17 @@ TEST(PieceMoves, ScaledOrListedOtherwiseTheSamePositions) {
   EXPECT_EQ(swapped[1].positions, plain[0].positions);
 }
 
-// Only small pieces free to move: a tube of more than kMaxPieceTriangles triangles (a garment's
-// size) or one with a pinned vertex stays where the repair left it.
+// Only small pieces interlocked with small things, free to move: a tube of more than
+// kMaxPieceTriangles triangles (a garment's size), a tube on a ring of more than that (a garment
+// piece on a body) and a tube with a pinned vertex stay where the repair left them.
 TEST(PieceMoves, LargeOrPinnedPiecesStay) {
-  {
-    std::vector<Mesh> meshes = ring_through_tube(1.0, 4);
-    ASSERT_GT(meshes[0].triangles.size(), kMaxPieceTriangles);
-    FixOptions one_run;  // no retry, continuation or layering: one repair, then the pieces
-    one_run.retries = 0;
-    one_run.continuation = false;
-    one_run.layering = false;
+  FixOptions one_run;  // no retry, continuation or layering: one repair, then the pieces
+  one_run.retries = 0;
+  one_run.continuation = false;
+  one_run.layering = false;
+  for (auto [levels, ring_levels] : {std::pair<int, int>{4, 0}, std::pair<int, int>{0, 3}}) {
+    std::vector<Mesh> meshes = ring_through_tube(1.0, levels, ring_levels);
+    ASSERT_GT(std::max(meshes[0].triangles.size(), meshes[1].triangles.size()), kMaxPieceTriangles);
     const FixResult r = fix_meshes(meshes, one_run);
     EXPECT_FALSE(r.clean);
     EXPECT_FALSE(r.piece_moves.ran);

@@ -112,8 +112,10 @@ struct FixOptions {
   bool layering = true;
   // Pieces moved whole (DESIGN §5, "Pieces moved whole"): when the kept attempt is unresolved and
   // every piece it leaves crossing another piece or an obstacle (or with a vertex inside one) is
-  // small (at most 2,048 triangles), free to move (no pinned vertex, none shared with an
-  // obstacle), each such piece is moved whole, smallest first, by the shortest translation found
+  // small (at most 2,048 triangles), crosses only small pieces and obstacle components (lies
+  // only inside small obstacles: never a garment on a body), and is free to move (no pinned
+  // vertex, none shared with an obstacle), each such piece is moved whole, smallest first, by the
+  // shortest translation found
   // that clears it (lengths of 1/16 to 1/2 of its bounding-box diagonal, 26 directions of its
   // principal axes), and the repair runs once more from there: a ring through a tube's wall, a
   // torus through a sheet, two links of a chain, which no local move frees. Kept as the

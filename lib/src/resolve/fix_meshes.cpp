@@ -368,7 +368,9 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
 
   // Pieces moved whole (piece_moves.h) where the kept attempt is unresolved: the moves from the
   // input, then one repair from there, its shape and moves measured against the input.
-  if (options.piece_moves && options.method == FixMethod::kRegion && !cancelled && !result.clean) {
+  // None where no iteration may run (--max-iterations 0: the counts alone).
+  if (options.piece_moves && options.method == FixMethod::kRegion && options.max_iterations > 0 &&
+      !cancelled && !result.clean) {
     std::vector<Mesh> attempt = start;
     std::vector<std::vector<std::uint32_t>> input_vertex;
     for (const CanonicalMesh& c : scene.renumbering) input_vertex.push_back(c.vertex_order);
