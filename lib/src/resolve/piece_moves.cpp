@@ -100,18 +100,17 @@ PieceMoveRecord move_pieces_whole(std::vector<Mesh>& meshes, const std::vector<M
                                   const std::vector<std::vector<std::uint32_t>>& input_vertex) {
   PieceMoveRecord record;
   SceneTopology topo = build_topology(meshes);
-  const SceneMeasures measures = measure_scene(topo, meshes, pins, options.threads);
+  std::vector<Role> role;
+  for (const Mesh& m : meshes) role.push_back(m.role);
   const std::size_t pieces = topo.component_mesh.size();
-  auto movable = [&](std::uint32_t c) {
-    return measures.role[topo.component_mesh[c]] == Role::kMovable;
-  };
+  auto movable = [&](std::uint32_t c) { return role[topo.component_mesh[c]] == Role::kMovable; };
   // The piece of a mesh's input vertex (as the input's topology welds it).
   auto piece_of = [&](std::uint32_t mesh, std::uint32_t vertex) {
     return topo.vertex_component[topo.welded[mesh][vertex]];
   };
 
   // The obstacles' winding numbers, built once: they never move.
-  const ObstacleWinding winding(topo, measures.role, options.threads);
+  const ObstacleWinding winding(topo, role, options.threads);
 
   // Triangles per component (pieces and the obstacles' components alike), per mesh.
   std::vector<std::size_t> size(pieces, 0), mesh_size(meshes.size(), 0);
@@ -132,7 +131,7 @@ PieceMoveRecord move_pieces_whole(std::vector<Mesh>& meshes, const std::vector<M
     settings.threads = options.threads;
     settings.skip_among.assign(meshes.size(), false);
     for (std::size_t m = 0; m < meshes.size(); ++m)
-      settings.skip_among[m] = measures.role[m] == Role::kObstacle;
+      settings.skip_among[m] = role[m] == Role::kObstacle;
     const CrossingSet crossings = detect_crossings(at, settings);
     auto piece_at = [&](std::uint32_t welded) {
       const std::uint32_t mesh = at.vertex_mesh[welded];
@@ -148,10 +147,9 @@ PieceMoveRecord move_pieces_whole(std::vector<Mesh>& meshes, const std::vector<M
       if (movable(b)) tangled[b] = 1;
       small = small && size[a] <= kMaxPieceTriangles && size[b] <= kMaxPieceTriangles;
     }
-    const ObstacleWinding at_winding(at, measures.role, options.threads, &winding);
+    const ObstacleWinding at_winding(at, role, options.threads, &winding);
     std::vector<std::uint32_t> inside;
-    if (at_winding.any())
-      find_inside_vertices(at, measures.role, at_winding, {}, options.threads, inside);
+    if (at_winding.any()) find_inside_vertices(at, role, at_winding, {}, options.threads, inside);
     for (std::uint32_t v = 0; v < inside.size(); ++v) {
       if (inside[v] == kNone) continue;
       tangled[piece_at(v)] = 1;
@@ -162,6 +160,7 @@ PieceMoveRecord move_pieces_whole(std::vector<Mesh>& meshes, const std::vector<M
   if (!small) return record;
 
   // Every tangled piece free to move and sharing no vertex with an obstacle, or nothing.
+  const SceneMeasures measures = measure_scene(topo, meshes, pins, options.threads);
   std::vector<std::vector<std::uint32_t>> piece_tris(pieces), piece_vertices(pieces);
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
     if (tangled[topo.tri_component(t)]) piece_tris[topo.tri_component(t)].push_back(t);
