@@ -115,12 +115,12 @@ struct FixOptions {
   // small (at most 2,048 triangles), crosses only small pieces and obstacle components (lies
   // only inside small obstacles: never a garment on a body), and is free to move (no pinned
   // vertex, none shared with an obstacle), each such piece is moved whole, smallest first, by the
-  // shortest translation found
-  // that clears it (lengths of 1/16 to 1/2 of its bounding-box diagonal, 26 directions of its
-  // principal axes), and the repair runs once more from there: a ring through a tube's wall, a
-  // torus through a sheet, two links of a chain, which no local move frees. Kept as the
-  // continuation is (clean and better); moved beyond the move bound, it reports `distorted`.
-  // Region method only; `simulate`'s corrections leave it out.
+  // shortest translation found that clears it (lengths of 1/16 to 1/2 of its bounding-box
+  // diagonal, 26 directions of its principal axes), and the repair runs once more from there: a
+  // ring through a tube's wall, a torus through a sheet, two links of a chain, which no local move
+  // frees. Kept as the continuation is (clean and better); moved beyond the move bound, it
+  // reports `distorted`. Region method only, and not with max_iterations 0; `simulate`'s
+  // corrections leave it out.
   bool piece_moves = true;
   // What `distorted` means to the continuation's and the layering's trigger and choice (the CLI
   // passes its --max-stretch, --max-flips and --max-move).
