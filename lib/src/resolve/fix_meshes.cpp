@@ -238,11 +238,13 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     FixResult result;
     LayeringRecord record;
   } laid;
+  // Per canonical mesh, per vertex: its index in the file (what the layering and the pieces moved
+  // whole report pieces by).
+  std::vector<std::vector<std::uint32_t>> input_vertex;
+  for (const CanonicalMesh& c : scene.renumbering) input_vertex.push_back(c.vertex_order);
   const auto lay_garments = [&] {
     laid.ran = true;
     laid.attempt = start;
-    std::vector<std::vector<std::uint32_t>> input_vertex;
-    for (const CanonicalMesh& c : scene.renumbering) input_vertex.push_back(c.vertex_order);
     laid.result =
         run_layering(laid.attempt, options, work_pins, round, watch, input_vertex, laid.record);
     laid.record.ran = true;
@@ -372,10 +374,8 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
   if (options.piece_moves && options.method == FixMethod::kRegion && options.max_iterations > 0 &&
       !cancelled && !result.clean) {
     std::vector<Mesh> attempt = start;
-    std::vector<std::vector<std::uint32_t>> input_vertex;
-    for (const CanonicalMesh& c : scene.renumbering) input_vertex.push_back(c.vertex_order);
     PieceMoveRecord record =
-        move_pieces_whole(attempt, work, options, work_pins, round, input_vertex);
+        move_pieces_whole(attempt, work, options, work_pins, round, input_vertex, winding.get());
     for (PieceMove& move : record.pieces) move.mesh = scene.mesh_order[move.mesh];
     if (record.moved > 0) {
       FixResult r = run_repair(attempt, options, work_pins, round, watch, toward);

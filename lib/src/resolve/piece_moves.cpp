@@ -97,7 +97,8 @@ class PieceSearch {
 PieceMoveRecord move_pieces_whole(std::vector<Mesh>& meshes, const std::vector<Mesh>& kept,
                                   const FixOptions& options, const PinMask& pins,
                                   const Rounding& round,
-                                  const std::vector<std::vector<std::uint32_t>>& input_vertex) {
+                                  const std::vector<std::vector<std::uint32_t>>& input_vertex,
+                                  const ObstacleWinding* earlier) {
   PieceMoveRecord record;
   SceneTopology topo = build_topology(meshes);
   std::vector<Role> role;
@@ -109,8 +110,8 @@ PieceMoveRecord move_pieces_whole(std::vector<Mesh>& meshes, const std::vector<M
     return topo.vertex_component[topo.welded[mesh][vertex]];
   };
 
-  // The obstacles' winding numbers, built once: they never move.
-  const ObstacleWinding winding(topo, role, options.threads);
+  // The obstacles' winding numbers, the repair's where given: they never move.
+  const ObstacleWinding winding(topo, role, options.threads, earlier);
 
   // Triangles per component (pieces and the obstacles' components alike), per mesh.
   std::vector<std::size_t> size(pieces, 0), mesh_size(meshes.size(), 0);

@@ -14,6 +14,8 @@
 
 namespace untangle {
 
+class ObstacleWinding;
+
 // A piece of at most this many triangles, tangled only with pieces and obstacles (each closed
 // component; a mesh a vertex lies inside, whole) of at most as many, may be moved whole: rings,
 // chain links, props interlocked with one another. Not a garment piece on a body (MakeHuman tops
@@ -40,10 +42,12 @@ constexpr int kPieceLongest = 8;
 // predicates decide every crossing; the winding numbers decide inside. `round` (when given) is
 // applied to every moved position. The record's pieces name the meshes by their index in
 // `meshes` and the vertices by input_vertex (per mesh, per vertex of `meshes`: its index in the
-// file), the lowest of the piece.
+// file), the lowest of the piece. `earlier`: the obstacles' winding numbers the repair built,
+// shared (ObstacleWinding's `earlier`) rather than built again.
 PieceMoveRecord move_pieces_whole(std::vector<Mesh>& meshes, const std::vector<Mesh>& kept,
                                   const FixOptions& options, const PinMask& pins,
                                   const Rounding& round,
-                                  const std::vector<std::vector<std::uint32_t>>& input_vertex);
+                                  const std::vector<std::vector<std::uint32_t>>& input_vertex,
+                                  const ObstacleWinding* earlier = nullptr);
 
 }  // namespace untangle
