@@ -266,12 +266,17 @@ int run_fix(CommonOptions o, const std::string& preview_dir) {
           c.deepest, c.shrunk_vertices, c.largest_shrink, c.steps, outcome(c), c.crossings,
           c.inside_vertices, c.max_stretch, c.kept ? " (kept)" : " (not kept)");
     }
-    if (result.scaled_continuation.ran) {
-      const untangle::ContinuationRecord& c = result.scaled_continuation;
+    for (const untangle::ContinuationRecord* scaled :
+         {&result.scaled_continuation, &result.second_scaled_continuation}) {
+      const untangle::ContinuationRecord& c = *scaled;
+      if (!c.ran) continue;
       std::printf(
-          "scaled continuation (obstacles scaled by %.3g about their centre, %d steps): %s, %zu "
-          "crossings, %zu inside, stretch %.3g%s\n",
-          c.factor, c.steps, outcome(c), c.crossings, c.inside_vertices, c.max_stretch,
+          "scaled continuation (obstacles scaled by %.3g about their centre, %s, %d steps): %s, "
+          "%zu crossings, %zu inside, stretch %.3g%s\n",
+          c.factor,
+          c.chosen_by == untangle::ScaleChoice::kDepth ? "the least depth inside"
+                                                       : "the fewest crossings",
+          c.steps, outcome(c), c.crossings, c.inside_vertices, c.max_stretch,
           c.kept ? " (kept)" : " (not kept)");
     }
     if (result.piece_moves.ran) {

@@ -76,7 +76,7 @@ TEST(Cli, CheckExitCodesAndReport) {
                            " --report - --contours " + quote(dir.file("c.obj")));
   EXPECT_EQ(hit.exit_code, 5) << hit.err;
   const nlohmann::json report = nlohmann::json::parse(hit.out);  // stdout carries only JSON
-  EXPECT_EQ(report["schema_version"], 12);
+  EXPECT_EQ(report["schema_version"], 13);
   const std::string version = run_cli("--version").out;  // "untangle X.Y.Z" first
   EXPECT_EQ("untangle " + report["untangle_version"].get<std::string>(), version.substr(0, version.find('\n')));
   EXPECT_EQ(report["command"], "check");

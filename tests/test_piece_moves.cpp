@@ -152,9 +152,10 @@ TEST(PieceMoves, LargeOrPinnedPiecesStay) {
 
 // Random tangles that only moving pieces whole resolves (tests/scenes/random_tangles.h): a sheet
 // pierced by a torus (154), three tori whose tubes pass through one another (670), a sheet
-// through an obstacle torus's hole and tube (826).
+// through an obstacle torus's hole and tube (169; 826, the same kind, has been resolved by the
+// obstacle scaled down about its centre since that continuation tries a second factor).
 TEST(PieceMoves, InterlockedRandomTanglesAreParted) {
-  for (std::uint64_t seed : {154u, 670u, 826u}) {
+  for (std::uint64_t seed : {154u, 670u, 169u}) {
     const scenes::RandomTangle tangle = scenes::random_tangle(seed);
     SCOPED_TRACE(tangle.description);
     std::vector<Mesh> meshes;

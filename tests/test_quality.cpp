@@ -138,11 +138,12 @@ TEST(Quality, ShippedPairEndsCleanWithinTheBounds) {
   EXPECT_TRUE(q["within_bounds"].get<bool>());
 }
 
-// The shipped body scaled by `factor` about its bounding box's centre, its `v` lines written with
-// six decimals (as Blender's OBJ exporter writes them), every other line as it is.
-std::string scaled_body_six_decimals(const TempDir& dir, double factor) {
-  const std::string text = read_text((kMakeHuman / "male_generic.obj").string());
-  const Mesh body = read_meshes((kMakeHuman / "male_generic.obj").string(), Role::kObstacle).at(0);
+// The shipped body (or `source`) scaled by `factor` about its bounding box's centre, its `v` lines
+// written with six decimals (as Blender's OBJ exporter writes them), every other line as it is.
+std::string scaled_body_six_decimals(const TempDir& dir, double factor,
+                                     const fs::path& source = kMakeHuman / "male_generic.obj") {
+  const std::string text = read_text(source.string());
+  const Mesh body = read_meshes(source.string(), Role::kObstacle).at(0);
   Vec3 lo = body.positions[0], hi = lo;
   for (const Vec3& p : body.positions)
     for (int k = 0; k < 3; ++k) {
@@ -175,6 +176,30 @@ std::string scaled_body_six_decimals(const TempDir& dir, double factor) {
   const std::string path = dir.file("body_scaled.obj");
   write_text(path, out);
   return path;
+}
+
+// `fix GARMENT --obstacle BODY -o OUT` with a report in `dir`: the report, or null (a failure
+// here) when the run did not end free of crossings.
+nlohmann::json fix_on_body(const TempDir& dir, const std::string& garment, const std::string& body,
+                           const std::string& out) {
+  const std::string report = dir.file("fixed.json");
+  const testing::RunResult r = run_cli("fix " + quote(garment) + " --obstacle " + quote(body) +
+                                       " -o " + quote(out) + " --report " + quote(report) + " -q");
+  EXPECT_TRUE(testing::intersection_free(r.exit_code)) << read_text(report);
+  if (!testing::intersection_free(r.exit_code)) return nullptr;
+  return nlohmann::json::parse(read_text(report));
+}
+
+// The garment file `garment`, with more than `inside_before` vertices inside `body` (by CGAL),
+// written as `out` with no crossing and nothing inside, judged by CGAL on the files.
+void expect_freed(const std::string& garment, const std::string& out, const std::string& body,
+                  std::size_t inside_before) {
+  const Mesh input = read_meshes(garment, Role::kMovable).at(0);
+  const Mesh output = read_meshes(out, Role::kMovable).at(0);
+  const Mesh obstacle = read_meshes(body, Role::kObstacle).at(0);
+  EXPECT_GT(cgal_reference::inside_count(input, obstacle), inside_before);
+  EXPECT_EQ(garment_pairs(output, obstacle), 0u);
+  EXPECT_EQ(cgal_reference::inside_count(output, obstacle), 0u);
 }
 
 // Issue 21's fragile case: a body a little larger, written with six decimals (what Blender's OBJ
@@ -281,15 +306,18 @@ TEST(Quality, ArmsMovedOutOfTheirSleevesAreReachedByScalingTheBody) {
   const std::string garment =
       (fs::path(UNTANGLE_SOURCE_DIR) / "testdata" / "makehuman_more" / "male_casualsuit02.obj")
           .string();
-  const std::string out = dir.file("fixed.obj"), report = dir.file("fixed.json");
-  const testing::RunResult r = run_cli("fix " + quote(garment) + " --obstacle " + quote(body) +
-                                       " -o " + quote(out) + " --report " + quote(report) + " -q");
-  ASSERT_TRUE(testing::intersection_free(r.exit_code)) << read_text(report);
-  const nlohmann::json j = nlohmann::json::parse(read_text(report));
+  const std::string out = dir.file("fixed.obj");
+  const nlohmann::json j = fix_on_body(dir, garment, body, out);
+  ASSERT_TRUE(j.is_object());
   const auto& normals = j["continuation"];
   ASSERT_TRUE(normals.is_object());
   EXPECT_FALSE(normals["kept"].get<bool>());
-  const auto& scaled = j["scaled_continuation"];
+  ASSERT_TRUE(j["scaled_continuation"].is_object()) << j.dump(1);
+  // One of the scaled continuations is kept: the factor of the least depth, or the second one,
+  // of the fewest crossings (on this body written with six decimals the first gives up and the
+  // second ends clean; on the body at full precision the first ends clean within the bounds).
+  const auto& first = j["scaled_continuation"];
+  const auto& scaled = first["kept"].get<bool>() ? first : j["second_scaled_continuation"];
   ASSERT_TRUE(scaled.is_object()) << j.dump(1);
   EXPECT_TRUE(scaled["kept"].get<bool>());
   EXPECT_TRUE(scaled["clean"].get<bool>());
@@ -297,12 +325,39 @@ TEST(Quality, ArmsMovedOutOfTheirSleevesAreReachedByScalingTheBody) {
   EXPECT_LT(scaled["factor"].get<double>(), 1.0);
   EXPECT_EQ(scaled["runs"].front()["shrink"].get<double>(), 1.0);
   EXPECT_EQ(scaled["runs"].back()["shrink"].get<double>(), 0.0);
-  const Mesh input = read_meshes(garment, Role::kMovable).at(0);
-  const Mesh output = read_meshes(out, Role::kMovable).at(0);
-  const Mesh obstacle = read_meshes(body, Role::kObstacle).at(0);
-  ASSERT_GT(cgal_reference::inside_count(input, obstacle), 100u);
-  EXPECT_EQ(garment_pairs(output, obstacle), 0u);
-  EXPECT_EQ(cgal_reference::inside_count(output, obstacle), 0u);
+  expect_freed(garment, out, body, 100);
+}
+
+// A garment that crosses its own body (female_casualsuit01: 3,611 crossings and 288 vertices
+// inside at the body's own size; `fix` cleans that in a second) on that body 8% larger. Scaled
+// down to the fewest crossings and inside vertices (0.842), the body's limbs stand inside the
+// garment's walls, the first step stalls and the continuation gives up: before 2026-12-07 this run
+// ended unresolved. The factor of the least depth inside (0.912; the body it was made on is at
+// 1 / 1.08 = 0.926) starts from a shallow penetration, and the run ends free of crossings with
+// nothing inside, judged here on the written file (stretched around a larger body: distorted).
+TEST(Quality, GarmentCrossingItsOwnBodyIsReachedFromTheLeastDepth) {
+  TempDir dir;
+  const fs::path more = fs::path(UNTANGLE_SOURCE_DIR) / "testdata" / "makehuman_more";
+  const std::string body = scaled_body_six_decimals(dir, 1.08, more / "female_generic.obj");
+  const std::string garment = (more / "female_casualsuit01.obj").string();
+  const std::string out = dir.file("fixed.obj");
+  const nlohmann::json j = fix_on_body(dir, garment, body, out);
+  ASSERT_TRUE(j.is_object());
+  const auto& scaled = j["scaled_continuation"];
+  ASSERT_TRUE(scaled.is_object()) << j.dump(1);
+  EXPECT_EQ(scaled["chosen_by"], "depth");
+  EXPECT_TRUE(scaled["kept"].get<bool>());
+  EXPECT_TRUE(scaled["clean"].get<bool>());
+  EXPECT_NEAR(scaled["factor"].get<double>(), 1.0 / 1.08, 0.03);
+  // Stretched beyond the bounds, so the factor of the fewest crossings is tried too, from the
+  // input: the old choice, which gives up and is not kept.
+  const auto& second = j["second_scaled_continuation"];
+  ASSERT_TRUE(second.is_object()) << j.dump(1);
+  EXPECT_EQ(second["chosen_by"], "count");
+  EXPECT_FALSE(second["kept"].get<bool>());
+  EXPECT_FALSE(second["clean"].get<bool>());
+  EXPECT_LT(second["factor"].get<double>(), scaled["factor"].get<double>());
+  expect_freed(garment, out, body, 1000);
 }
 
 TEST(Quality, RelaxationSmoothsWhatTheRepairPushed) {

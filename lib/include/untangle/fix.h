@@ -193,10 +193,15 @@ struct ContinuationStep {
   bool clean = false;
 };
 
+// How a scaled continuation's factor was chosen: none (along normals), the least depth of the
+// movable vertices inside the obstacles, or the fewest crossings against them and vertices inside.
+enum class ScaleChoice { kNone, kDepth, kCount };
+
 // The continuation (FixOptions::continuation), when it ran.
 struct ContinuationRecord {
   bool ran = false;
   double factor = 0.0;        // the scaled continuation's scale at full shrink; 0 along normals
+  ScaleChoice chosen_by = ScaleChoice::kNone;  // how `factor` was chosen
   int steps = 0;              // repairs run: the obstacles shrunk, then grown back, the last at
                               // their true shape
   double deepest = 0.0;       // deepest movable vertex inside an obstacle at the start, scene units
@@ -308,8 +313,11 @@ struct FixResult {
   double clearance = 0.0;  // the clearance of the attempt kept
   ContinuationRecord continuation;
   // The continuation with the obstacles scaled about their centre, where the one along their
-  // normals was not within the bounds.
+  // normals was not within the bounds: by the factor of the least depth inside; where the result
+  // is still not within the bounds and the factor of the fewest crossings and vertices inside
+  // differs, a second one by that factor.
   ContinuationRecord scaled_continuation;
+  ContinuationRecord second_scaled_continuation;
   LayeringRecord layering;
   PieceMoveRecord piece_moves;
   // The final state, detected as `check` detects it (numbered by its own positions, where the

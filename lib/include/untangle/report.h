@@ -22,8 +22,8 @@ namespace untangle {
 // 7: relax_sweeps among the fix options.
 // 8: `layering` in the fix report and among its options. 9: the layering's `orders`. 10: the
 // continuation's `gave_up`. 11: `scaled_continuation`. 12: `piece_moves` in the fix report and
-// among its options.
-inline constexpr int kReportSchemaVersion = 12;
+// among its options. 13: `second_scaled_continuation`, and `chosen_by` in both.
+inline constexpr int kReportSchemaVersion = 13;
 
 struct CheckTimingsMs {
   double load = 0.0, detect = 0.0, contours = 0.0, total = 0.0;

@@ -52,6 +52,8 @@ Json continuation_json(const ContinuationRecord& c) {
   if (!c.ran) return nullptr;
   Json e;
   if (c.factor > 0.0) e["factor"] = c.factor;
+  if (c.chosen_by != ScaleChoice::kNone)
+    e["chosen_by"] = c.chosen_by == ScaleChoice::kDepth ? "depth" : "count";
   e["steps"] = c.steps;
   e["deepest"] = c.deepest;
   e["largest_shrink"] = c.largest_shrink;
@@ -229,6 +231,7 @@ std::string fix_report_json(const std::vector<Mesh>& meshes, const std::vector<M
   j["retries"] = retries;
   j["continuation"] = continuation_json(result.continuation);
   j["scaled_continuation"] = continuation_json(result.scaled_continuation);
+  j["second_scaled_continuation"] = continuation_json(result.second_scaled_continuation);
   if (result.piece_moves.ran) {
     const PieceMoveRecord& p = result.piece_moves;
     Json e;

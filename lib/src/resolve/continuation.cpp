@@ -183,9 +183,8 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
   return plan;
 }
 
-ContinuationPlan plan_scaled_continuation(const std::vector<Mesh>& meshes,
-                                          const FixOptions& options) {
-  ContinuationPlan plan;
+ScaledPlans plan_scaled_continuation(const std::vector<Mesh>& meshes, const FixOptions& options) {
+  ScaledPlans plans;
   Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   bool any_obstacle = false, any_movable = false;
   for (const Mesh& m : meshes) {
@@ -200,14 +199,36 @@ ContinuationPlan plan_scaled_continuation(const std::vector<Mesh>& meshes,
       }
     any_obstacle = any_obstacle || !m.positions.empty();
   }
-  if (!any_obstacle || !any_movable) return plan;
+  if (!any_obstacle || !any_movable) return plans;
   const Vec3 centre = scale(add(lo, hi), 0.5);
+  const SceneTopology topo = build_topology(meshes);
+  const std::vector<double> mean_edge = mean_edges(topo, meshes.size());
   double movable_edge = INFINITY;
-  const std::vector<double> mean_edge = mean_edges(build_topology(meshes), meshes.size());
   for (std::size_t m = 0; m < meshes.size(); ++m)
     if (meshes[m].role == Role::kMovable && mean_edge[m] > 0.0)
       movable_edge = std::min(movable_edge, mean_edge[m]);
-  if (!std::isfinite(movable_edge)) return plan;
+  if (!std::isfinite(movable_edge)) return plans;
+  // How deep the movable vertices lie inside the obstacles scaled by `factor`: each vertex moved
+  // by the inverse scaling asked of the obstacles at their input positions (their winding numbers
+  // and closest-point tree built once), its depth scaled back, in its mesh's mean edges.
+  std::vector<Role> role(meshes.size());
+  for (std::size_t m = 0; m < meshes.size(); ++m) role[m] = meshes[m].role;
+  std::vector<std::uint32_t> obstacle_tris;
+  for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
+    if (role[topo.tri_mesh[t]] == Role::kObstacle) obstacle_tris.push_back(t);
+  const ObstacleWinding winding(topo, role, options.threads);
+  const std::unique_ptr<MeshTree> tree = build_tree(topo, obstacle_tris);
+  const auto depth_at = [&](double factor) {
+    double sum = 0.0;
+    for (std::uint32_t v = 0; v < topo.points.size(); ++v) {
+      const std::uint32_t m = topo.vertex_mesh[v];
+      if (role[m] != Role::kMovable || !(mean_edge[m] > 0.0)) continue;
+      const Vec3 q = add(centre, scale(sub(topo.points[v], centre), 1.0 / factor));
+      if (winding.inside(q) == kNone) continue;
+      sum += factor * norm(sub(q, closest_on(*tree, q).point)) / mean_edge[m];
+    }
+    return sum;
+  };
   DetectOptions detect;
   detect.threads = options.threads;
   detect.skip_obstacle_pairs = true;
@@ -228,23 +249,37 @@ ContinuationPlan plan_scaled_continuation(const std::vector<Mesh>& meshes,
         ++against;
     return against + found.counts.inside_vertices;
   };
-  std::size_t best_illegal = SIZE_MAX;
-  double best_factor = 0.0;
-  const auto consider = [&](double factor) {
-    const std::size_t illegal = illegal_at(factor);
-    if (illegal < best_illegal) {
-      best_illegal = illegal;
-      best_factor = factor;
-    }
+  // Each factor measured once for both choices (the factors are exact dyadic numbers).
+  struct Measured {
+    double factor, depth;
+    std::size_t illegal;
   };
-  for (int k = 1; k <= kScaleLadder; ++k) consider(1.0 - kScaleStep * k);
-  for (double step = 0.5 * kScaleStep; step >= kScaleFinest && best_illegal > 0; step *= 0.5) {
-    const double around = best_factor;
-    if (around + step < 1.0) consider(around + step);
-    consider(around - step);
-  }
-  if (best_factor > 0.0) {
-    const double factor = best_factor;
+  std::vector<Measured> measured;
+  const auto measure = [&](double factor) {
+    for (const Measured& m : measured)
+      if (m.factor == factor) return m;
+    measured.push_back({factor, depth_at(factor), illegal_at(factor)});
+    return measured.back();
+  };
+  // The search of one choice: `better(a, b)` whether a is better than b; `done(best)` whether no
+  // refinement can improve on it.
+  const auto search = [&](auto better, auto done) {
+    Measured best{0.0, INFINITY, SIZE_MAX};
+    const auto consider = [&](double factor) {
+      const Measured m = measure(factor);
+      if (better(m, best)) best = m;
+    };
+    for (int k = 1; k <= kScaleLadder; ++k) consider(1.0 - kScaleStep * k);
+    for (double step = 0.5 * kScaleStep; step >= kScaleFinest && !done(best); step *= 0.5) {
+      const double around = best.factor;
+      if (around + step < 1.0) consider(around + step);
+      consider(around - step);
+    }
+    return best.factor;
+  };
+  const auto plan_at = [&](double factor) {
+    ContinuationPlan plan;
+    if (!(factor > 0.0)) return plan;
     plan.inward.assign(meshes.size(), {});
     for (std::size_t m = 0; m < meshes.size(); ++m) {
       if (meshes[m].role != Role::kObstacle) continue;
@@ -259,8 +294,21 @@ ContinuationPlan plan_scaled_continuation(const std::vector<Mesh>& meshes,
     plan.movable_edge = movable_edge;
     plan.steps = continuation_steps(plan.largest_shrink, movable_edge);
     plan.give_up_after = kGiveUpAfter;
-  }
-  return plan;
+    return plan;
+  };
+  // The count alone chose 0.842 for female_casualsuit01 on its body x 1.08, where its inside
+  // vertices lie 80 mean edges deep in sum and the first step stalls; the depth chooses 0.912 (the
+  // body it was made on is at 0.926) and the plan ends free of crossings. On the male garments
+  // the two choices lie within 1/256 of each other.
+  plans.by_depth = plan_at(search(
+      [](const Measured& a, const Measured& b) {
+        return a.depth < b.depth || (a.depth == b.depth && a.illegal < b.illegal);
+      },
+      [](const Measured& best) { return best.depth == 0.0 && best.illegal == 0; }));
+  plans.by_count =
+      plan_at(search([](const Measured& a, const Measured& b) { return a.illegal < b.illegal; },
+                     [](const Measured& best) { return best.illegal == 0; }));
+  return plans;
 }
 
 int continuation_steps(double largest_shrink, double movable_edge) {

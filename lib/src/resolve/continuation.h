@@ -38,16 +38,20 @@ struct ContinuationPlan {
 ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOptions& options,
                                    const PinMask& pins);
 
-// The plan of the scaled continuation: every obstacle scaled about the centre of the obstacles'
-// bounding box, by the factor below 1 (1 - k/64 for k = 1 to 10, then refined by halved steps
-// down to 1/512 around the best) at which the fewest crossings against the obstacles and inside
-// vertices remain. A garment made for a slimmer body, or a body grown from the one the garment
-// was made on, sits outside the body scaled down where the shrink along normals cannot get it
-// out: a limb moved sideways out of its sleeve by more than its thickness. The inward move of a
-// vertex is its way to the scaled position, so that the steps are the body growing back. No plan
-// (steps 0) without an obstacle or a movable mesh.
-ContinuationPlan plan_scaled_continuation(const std::vector<Mesh>& meshes,
-                                          const FixOptions& options);
+// The plans of the scaled continuation: every obstacle scaled about the centre of the obstacles'
+// bounding box, by a factor below 1 (1 - k/64 for k = 1 to 10, then refined by halved steps down
+// to 1/512 around the best). A garment made for a slimmer body, or a body grown from the one the
+// garment was made on, sits outside the body scaled down where the shrink along normals cannot
+// get it out: a limb moved sideways out of its sleeve by more than its thickness. The inward move
+// of a vertex is its way to the scaled position, so that the steps are the body growing back.
+// `by_depth` takes the factor at which the movable vertices inside the obstacles lie least deep
+// in sum (in their meshes' mean edges; equal sums, none inside: the fewest crossings against the
+// obstacles and inside vertices), `by_count` the one with the fewest crossings and inside
+// vertices. No plan (steps 0) without an obstacle or a movable mesh.
+struct ScaledPlans {
+  ContinuationPlan by_depth, by_count;
+};
+ScaledPlans plan_scaled_continuation(const std::vector<Mesh>& meshes, const FixOptions& options);
 
 // The steps of a plan whose largest inward move is `largest_shrink`: that move in steps of
 // kStepEdges mean edges `movable_edge` of the movable meshes, between kMinSteps and kMaxSteps.
