@@ -153,7 +153,7 @@ TEST(PieceMoves, LargeOrPinnedPiecesStay) {
 // Random tangles that only moving pieces whole resolves (tests/scenes/random_tangles.h): a sheet
 // pierced by a torus (154), three tori whose tubes pass through one another (670), a sheet
 // through an obstacle torus's hole and tube (169; 826, the same kind, has been resolved by the
-// obstacle scaled down about its centre since that continuation tries a second factor).
+// torus scaled down about its centre since that continuation chooses its factor by depth).
 TEST(PieceMoves, InterlockedRandomTanglesAreParted) {
   for (std::uint64_t seed : {154u, 670u, 169u}) {
     const scenes::RandomTangle tangle = scenes::random_tangle(seed);
