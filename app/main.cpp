@@ -450,7 +450,8 @@ void add_fix_options(CLI::App& cmd, CommonOptions& o, std::string& preview) {
       "runs once more with the obstacles shrunk inward, then grown back in "
       "steps, repaired and relaxed after each, and where that is not within the "
       "bounds and one mesh moves, once more with the obstacles scaled down about "
-      "their centre (each "
+      "their centre to where the mesh lies least deep inside them, and where that is "
+      "not within the bounds either, to where it crosses them least (each "
       "adds seconds where it runs; up to 32 repairs, giving up after four in a "
       "row end unresolved)");
   cmd.add_flag("--continuation", o.continuation,
