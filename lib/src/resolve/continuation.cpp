@@ -183,7 +183,8 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
   return plan;
 }
 
-ScaledPlans plan_scaled_continuation(const std::vector<Mesh>& meshes, const FixOptions& options) {
+ScaledPlans plan_scaled_continuation(const std::vector<Mesh>& meshes, const FixOptions& options,
+                                     const ObstacleWinding* earlier) {
   ScaledPlans plans;
   Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
   bool any_obstacle = false, any_movable = false;
@@ -216,7 +217,7 @@ ScaledPlans plan_scaled_continuation(const std::vector<Mesh>& meshes, const FixO
   std::vector<std::uint32_t> obstacle_tris;
   for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
     if (role[topo.tri_mesh[t]] == Role::kObstacle) obstacle_tris.push_back(t);
-  const ObstacleWinding winding(topo, role, options.threads);
+  const ObstacleWinding winding(topo, role, options.threads, earlier);
   const std::unique_ptr<MeshTree> tree = build_tree(topo, obstacle_tris);
   const auto depth_at = [&](double factor) {
     double sum = 0.0;

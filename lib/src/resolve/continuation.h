@@ -13,6 +13,8 @@
 
 namespace untangle {
 
+class ObstacleWinding;
+
 struct ContinuationPlan {
   // Per mesh, per input vertex: the inward move of an obstacle vertex at full shrink (all copies
   // of a welded vertex alike); empty for movable meshes.
@@ -47,11 +49,13 @@ ContinuationPlan plan_continuation(const std::vector<Mesh>& meshes, const FixOpt
 // `by_depth` takes the factor at which the movable vertices inside the obstacles lie least deep
 // in sum (in their meshes' mean edges; equal sums, none inside: the fewest crossings against the
 // obstacles and inside vertices), `by_count` the one with the fewest crossings and inside
-// vertices. No plan (steps 0) without an obstacle or a movable mesh.
+// vertices. No plan (steps 0) without an obstacle or a movable mesh. `earlier`, when given: the
+// repair's winding numbers of the same obstacles, whose hierarchies the depths share.
 struct ScaledPlans {
   ContinuationPlan by_depth, by_count;
 };
-ScaledPlans plan_scaled_continuation(const std::vector<Mesh>& meshes, const FixOptions& options);
+ScaledPlans plan_scaled_continuation(const std::vector<Mesh>& meshes, const FixOptions& options,
+                                     const ObstacleWinding* earlier = nullptr);
 
 // The steps of a plan whose largest inward move is `largest_shrink`: that move in steps of
 // kStepEdges mean edges `movable_edge` of the movable meshes, between kMinSteps and kMaxSteps.

@@ -360,7 +360,7 @@ FixResult fix_meshes_toward(std::vector<Mesh>& meshes,
     // the bounds where the first is not).
     if (!cancelled && plan.steps > 0 && movable_meshes(start) == 1 &&
         rank(result, options.bounds) > 0) {
-      const ScaledPlans scaled = plan_scaled_continuation(start, options);
+      const ScaledPlans scaled = plan_scaled_continuation(start, options, winding.get());
       if (scaled.by_depth.steps > 0) {
         ContinuationRecord record;
         record.chosen_by = ScaleChoice::kDepth;
