@@ -433,11 +433,22 @@ TriangleBvh::TriangleBvh(const SceneTopology& topo, const std::vector<std::uint3
 void TriangleBvh::build_over(const SceneTopology& topo, const std::vector<std::uint32_t>& tris) {
   if (tris.empty()) return;
   std::vector<Box3> boxes(tris.size());
-  Box3 all = boxes[0] = triangle_box(topo, tris[0]);
-  for (std::size_t i = 1; i < tris.size(); ++i) {
-    boxes[i] = triangle_box(topo, tris[i]);
-    all = merged(all, boxes[i]);
-  }
+  for (std::size_t i = 0; i < tris.size(); ++i) boxes[i] = triangle_box(topo, tris[i]);
+  build_over_boxes(std::move(boxes), tris, false);
+}
+
+TriangleBvh::TriangleBvh(const std::vector<Box3>& boxes) {
+  if (boxes.empty()) return;
+  std::vector<std::uint32_t> ids(boxes.size());
+  for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<std::uint32_t>(i);
+  build_over_boxes(boxes, ids, true);
+}
+
+void TriangleBvh::build_over_boxes(std::vector<Box3> boxes, const std::vector<std::uint32_t>& tris,
+                                   bool split_by_code) {
+  if (tris.empty()) return;
+  Box3 all = boxes[0];
+  for (std::size_t i = 1; i < tris.size(); ++i) all = merged(all, boxes[i]);
   // Order the triangles along a Morton curve of their box centres (ties by id): neighbours in the
   // order are neighbours in space, so halving ranges builds a sound hierarchy with a single sort.
   std::vector<std::uint32_t> code(tris.size()), order(tris.size());
@@ -462,6 +473,12 @@ void TriangleBvh::build_over(const SceneTopology& topo, const std::vector<std::u
   }
   // A binary tree over leaves of 2 to 4 triangles has fewer than tris.size() nodes.
   nodes_.reserve(tris.size());
+  if (split_by_code) {
+    std::vector<std::uint32_t> sorted(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = code[order[i]];
+    build(0, static_cast<std::uint32_t>(tris.size()), nullptr, &sorted);
+    return;
+  }
   build(0, static_cast<std::uint32_t>(tris.size()), nullptr);
 }
 
@@ -485,7 +502,8 @@ void TriangleBvh::refit(const SceneTopology& topo) {
 }
 
 std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count,
-                                 const std::vector<std::uint32_t>* cuts) {
+                                 const std::vector<std::uint32_t>* cuts,
+                                 const std::vector<std::uint32_t>* code) {
   const std::uint32_t index = static_cast<std::uint32_t>(nodes_.size());
   nodes_.emplace_back();
   if (count <= 4) {
@@ -507,9 +525,18 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count,
       if (best == 0 || half - below < best - half) best = below;
     }
     if (best != 0) half = best;
+  } else if (code != nullptr && (*code)[first] != (*code)[first + count - 1]) {
+    // At the highest bit in which the range's first and last codes differ: the two halves of the
+    // octree cell the range fills (halved by count where every code is the same).
+    const std::uint32_t a = (*code)[first], b = (*code)[first + count - 1];
+    int bit = 31;
+    while (((a ^ b) >> bit & 1u) == 0) --bit;
+    const std::uint32_t upper = b >> bit << bit;  // b's prefix down to that bit, zeros below
+    const auto begin = code->begin() + first;
+    half = static_cast<std::uint32_t>(std::lower_bound(begin, begin + count, upper) - begin);
   }
-  const std::uint32_t left = build(first, half, cuts);
-  const std::uint32_t right = build(first + half, count - half, cuts);
+  const std::uint32_t left = build(first, half, cuts, code);
+  const std::uint32_t right = build(first + half, count - half, cuts, code);
   nodes_[index].box = merged(nodes_[left].box, nodes_[right].box);
   nodes_[index].left = left;
   nodes_[index].right = right;

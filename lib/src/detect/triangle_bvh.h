@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "geometry/box3.h"
@@ -18,10 +19,14 @@ inline Box3 triangle_box(const SceneTopology& topology, std::uint32_t t) {
 
 class TriangleBvh {
  public:
+  TriangleBvh() = default;  // empty
   // Over the triangles whose mesh is flagged in `include`.
   TriangleBvh(const SceneTopology& topology, const std::vector<bool>& include);
   // Over the listed triangles (ascending ids).
   TriangleBvh(const SceneTopology& topology, const std::vector<std::uint32_t>& triangles);
+  // Over triangles that are not a topology's, given by their boxes: entry i is boxes[i], and the
+  // queries report i (a closest-point tree over copies of some triangles).
+  explicit TriangleBvh(const std::vector<Box3>& boxes);
 
   // Recomputes every box from the current positions, keeping the tree (vertices moved a little:
   // iterations of fix). Queries stay exact; only their speed depends on how far things moved.
@@ -46,6 +51,46 @@ class TriangleBvh {
 
   // Appends every indexed triangle whose box overlaps `box` (in no particular order).
   void query(const Box3& box, std::vector<std::uint32_t>& out) const;
+  // A nearest-triangle search: calls f(t) for the indexed triangles whose boxes may lie within the
+  // bound f returns (the squared distance of the nearest found so far; +infinity before the first
+  // call), the nearer child first, skipping what lies beyond the bound. The bound is widened by a
+  // relative 1e-12 so that rounding of the box distances never skips a triangle that could be
+  // nearer: f decides which is nearest, exactly if it likes.
+  template <class F>
+  void nearest(const Vec3& p, const F& f) const {
+    if (nodes_.empty()) return;
+    double bound = std::numeric_limits<double>::infinity();
+    auto beyond = [&bound](double d2) { return d2 > bound + bound * 1e-12; };
+    struct Entry {
+      std::uint32_t node;
+      double d2;
+    };
+    // Each level pops one entry and pushes two: the stack holds at most the depth plus one (32 for
+    // 2^32 triangles in leaves of 2 to 4).
+    Entry stack[96];
+    int top = 0;
+    stack[top++] = {0u, squared_distance_to(nodes_[0].box, p)};
+    while (top > 0) {
+      const Entry e = stack[--top];
+      if (beyond(e.d2)) continue;
+      const Node& n = nodes_[e.node];
+      if (n.count > 0) {
+        for (std::uint32_t x = n.first; x < n.first + n.count; ++x)
+          if (!beyond(squared_distance_to(leaf_boxes_[x], p))) bound = f(triangles_[x]);
+        continue;
+      }
+      const double dl = squared_distance_to(nodes_[n.left].box, p);
+      const double dr = squared_distance_to(nodes_[n.right].box, p);
+      if (dl <= dr) {
+        stack[top++] = {n.right, dr};
+        stack[top++] = {n.left, dl};
+      } else {
+        stack[top++] = {n.left, dl};
+        stack[top++] = {n.right, dr};
+      }
+    }
+  }
+
   bool empty() const { return triangles_.empty(); }
   std::size_t size() const { return triangles_.size(); }  // indexed triangles
 
@@ -149,9 +194,18 @@ class TriangleBvh {
     return (b.hi[0] - b.lo[0]) + (b.hi[1] - b.lo[1]) + (b.hi[2] - b.lo[2]);  // half perimeter
   }
   void build_over(const SceneTopology& topology, const std::vector<std::uint32_t>& triangles);
+  // The same over the triangles' boxes (boxes[i] that of ids[i]); with `split_by_code`, ranges
+  // are split where their Morton codes' highest differing bit turns (tighter boxes for nearest
+  // queries; detection keeps its halved ranges and so its order of pairs).
+  void build_over_boxes(std::vector<Box3> boxes, const std::vector<std::uint32_t>& ids,
+                        bool split_by_code);
+
   // Nodes over triangles_[first, first + count); ranges are halved, or cut at the entry of `cuts`
-  // (ascending) nearest their middle when they hold one.
-  std::uint32_t build(std::uint32_t first, std::uint32_t count, const std::vector<std::uint32_t>* cuts);
+  // (ascending) nearest their middle when they hold one, or with `code` (the entries' Morton codes,
+  // ascending) where the highest bit of their codes turns.
+  std::uint32_t build(std::uint32_t first, std::uint32_t count,
+                      const std::vector<std::uint32_t>* cuts,
+                      const std::vector<std::uint32_t>* code = nullptr);
 
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> triangles_;

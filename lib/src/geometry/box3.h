@@ -36,6 +36,16 @@ inline Box3 triangle_box(const std::vector<Vec3>& points, const Triangle& tri) {
   return b;
 }
 
+// The squared distance from p to the nearest point of box b (0 inside it), in doubles.
+inline double squared_distance_to(const Box3& b, const Vec3& p) {
+  double sum = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = std::max(std::max(b.lo[k] - p[k], p[k] - b.hi[k]), 0.0);
+    sum += d * d;
+  }
+  return sum;
+}
+
 inline Box3 merged(const Box3& a, const Box3& b) {
   Box3 out;
   for (int k = 0; k < 3; ++k) {

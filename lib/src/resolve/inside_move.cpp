@@ -54,7 +54,7 @@ void inside_move(const RepairContext& ctx, Scratch& scratch, SurfaceTrees& trees
       const MeshTree& tree = trees.component_tree(c, fresh);
       if (tree.triangles.empty()) continue;
       const Vec3& p = topo.points[v];
-      const double d = tree.tree.squared_distance(TreeKernel::Point_3(p[0], p[1], p[2]));
+      const double d = closest_on(tree, p).squared;
       if (target == kNone || d < best) {
         target = c;
         best = d;

@@ -15,6 +15,8 @@ std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
   // touched several times over.
   out->triangles.reserve(tris.size());
   out->ids.reserve(tris.size());
+  std::vector<Box3> boxes;
+  boxes.reserve(tris.size());
   for (std::uint32_t t : tris) {
     const auto& tri = topo.tris[t];
     auto p = [&](int k) {
@@ -23,18 +25,99 @@ std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
     };
     out->triangles.emplace_back(p(0), p(1), p(2));
     out->ids.push_back(t);
+    boxes.push_back(triangle_box(topo, t));
   }
-  if (out->triangles.empty()) return out;
-  out->tree.insert(out->triangles.begin(), out->triangles.end());
-  out->tree.accelerate_distance_queries();
+  out->boxes = TriangleBvh(boxes);
   return out;
 }
 
+const TriangleTree& MeshTree::ray_tree() const {
+  std::call_once(rays_built_, [this] {
+    rays_ = std::make_unique<TriangleTree>(triangles.begin(), triangles.end());
+  });
+  return *rays_;
+}
+
+namespace {
+
+// The squared distance from p to triangle (a, b, c) in plain doubles (Ericson, Real-Time Collision
+// Detection, 5.1.5): only a filter, about twenty times cheaper than CGAL's projection, whose
+// predicates decide on which side of an edge the point falls.
+double rough_squared_distance(const TreeKernel::Triangle_3& t, const Vec3& p) {
+  const Vec3 a{t[0].x(), t[0].y(), t[0].z()};
+  const Vec3 b{t[1].x(), t[1].y(), t[1].z()};
+  const Vec3 c{t[2].x(), t[2].y(), t[2].z()};
+  auto squared = [&p](const Vec3& q) {
+    const Vec3 d = sub(p, q);
+    return dot(d, d);
+  };
+  const Vec3 ab = sub(b, a), ac = sub(c, a), ap = sub(p, a);
+  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return squared(a);
+  const Vec3 bp = sub(p, b);
+  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return squared(b);
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return squared(add(a, scale(ab, d1 / (d1 - d3))));
+  const Vec3 cp = sub(p, c);
+  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return squared(c);
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return squared(add(a, scale(ac, d2 / (d2 - d6))));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0)
+    return squared(add(b, scale(sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+  const double denom = va + vb + vc;
+  if (!(denom > 0.0)) return 0.0;  // degenerate: never filtered out
+  const double v = vb / denom, w = vc / denom;
+  return squared(add(a, add(scale(ab, v), scale(ac, w))));
+}
+
+// The largest coordinate magnitude of p and t's corners: the scale of the filter's rounding.
+double magnitude(const TreeKernel::Triangle_3& t, const Vec3& p) {
+  double m = std::max({std::abs(p[0]), std::abs(p[1]), std::abs(p[2])});
+  for (int k = 0; k < 3; ++k)
+    m = std::max({m, std::abs(t[k].x()), std::abs(t[k].y()), std::abs(t[k].z())});
+  return m;
+}
+
+}  // namespace
+
 Closest closest_on(const MeshTree& tree, const Vec3& p) {
   const TreeKernel::Point_3 q(p[0], p[1], p[2]);
-  const auto hit = tree.tree.closest_point_and_primitive(q);
-  const std::size_t found = static_cast<std::size_t>(hit.second - tree.triangles.begin());
-  const Vec3 at{hit.first.x(), hit.first.y(), hit.first.z()};
+  const auto project = TreeKernel().construct_projected_point_3_object();
+  const auto compare = TreeKernel().compare_distance_3_object();
+  // The nearest projection, decided exactly between the projections (as CGAL's traversal decides
+  // them); equally near ones by the lowest id (CGAL kept whichever its traversal met last).
+  constexpr std::size_t kNoEntry = ~std::size_t{0};
+  std::size_t found = kNoEntry;
+  TreeKernel::Point_3 at_point;
+  double squared = INFINITY;
+  tree.boxes.nearest(p, [&](std::uint32_t k) {
+    const TreeKernel::Triangle_3& triangle = tree.triangles[k];
+    // A triangle surely farther than the nearest so far is not projected: the filter's distance
+    // within a relative 1e-9 and a billionth of the coordinates' scale (its rounding is a few units
+    // in the last place of the coordinates, and so is the projection's).
+    if (found != kNoEntry) {
+      const double tolerance = 1e-9 * magnitude(triangle, p);
+      if (rough_squared_distance(triangle, p) > squared + 1e-9 * squared + tolerance * tolerance)
+        return squared;
+    }
+    const TreeKernel::Point_3 c = project(triangle, q);
+    bool take = found == kNoEntry;
+    if (!take) {
+      const CGAL::Comparison_result r = compare(q, c, at_point);
+      take = r == CGAL::SMALLER || (r == CGAL::EQUAL && tree.ids[k] < tree.ids[found]);
+    }
+    if (take) {
+      found = k;
+      at_point = c;
+      squared = CGAL::squared_distance(q, c);
+    }
+    return squared;
+  });
+  if (found == kNoEntry) return {p, 0, INFINITY};
+  const Vec3 at{at_point.x(), at_point.y(), at_point.z()};
   // Inside its triangle, away from the corners and edges (by a millionth of a millionth of the
   // edge), the point is the triangle's alone: another triangle as close would have to lie at the
   // same distance across the gap, which only a symmetric scene gives.
@@ -49,25 +132,29 @@ Closest closest_on(const MeshTree& tree, const Vec3& p) {
     longest2 = std::max(longest2, length2);
     inside = inside && norm(cross(edge, sub(at, a))) > 1e-12 * length2;
   }
-  if (inside) return {at, tree.ids[found], CGAL::squared_distance(q, hit.first)};
+  if (inside) return {at, tree.ids[found], squared};
   // On a corner or an edge: the triangles holding that point (those whose boxes meet a box around
   // it a millionth of the longest edge wide).
   const double reach = 1e-6 * std::sqrt(longest2);
-  const CGAL::Bbox_3 box(at[0] - reach, at[1] - reach, at[2] - reach, at[0] + reach, at[1] + reach,
-                         at[2] + reach);
-  std::vector<TreePrimitive::Id> near;
-  tree.tree.all_intersected_primitives(box, std::back_inserter(near));
-  near.push_back(hit.second);
-  const auto project = TreeKernel().construct_projected_point_3_object();
+  Box3 box;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = at[a] - reach;
+    box.hi[a] = at[a] + reach;
+  }
+  std::vector<std::uint32_t> near;
+  tree.boxes.query(box, near);
+  near.push_back(static_cast<std::uint32_t>(found));
   Closest best;
   best.squared = INFINITY;
   bool any = false;
-  for (const auto& id : near) {
-    const std::uint32_t face = tree.ids[static_cast<std::size_t>(id - tree.triangles.begin())];
-    const TreeKernel::Point_3 c = project(*id, q);
-    const double squared = CGAL::squared_distance(q, c);
-    if (!any || squared < best.squared || (squared == best.squared && face < best.face)) {
-      best = {Vec3{c.x(), c.y(), c.z()}, face, squared};
+  const CGAL::Bbox_3 exact_box(box.lo[0], box.lo[1], box.lo[2], box.hi[0], box.hi[1], box.hi[2]);
+  for (std::uint32_t k : near) {
+    if (k != found && !CGAL::do_intersect(exact_box, tree.triangles[k])) continue;
+    const std::uint32_t face = tree.ids[k];
+    const TreeKernel::Point_3 c = project(tree.triangles[k], q);
+    const double d2 = CGAL::squared_distance(q, c);
+    if (!any || d2 < best.squared || (d2 == best.squared && face < best.face)) {
+      best = {Vec3{c.x(), c.y(), c.z()}, face, d2};
       any = true;
     }
   }
@@ -82,7 +169,8 @@ bool first_ray_hit(const MeshTree& tree, const Vec3& from, const Vec3& direction
   // with a fixed one, so that the primitive found (and so the continuation's plan) changed in its
   // last bits when the scene was scaled by 1024 (issue 21). Scaled by the diagonal, a scene scaled
   // by a power of two gives the same hits scaled. The hit point below is homogeneous either way.
-  const CGAL::Bbox_3 box = tree.tree.bbox();
+  const TriangleTree& rays = tree.ray_tree();
+  const CGAL::Bbox_3 box = rays.bbox();
   const double dx = box.xmax() - box.xmin(), dy = box.ymax() - box.ymin(),
                dz = box.zmax() - box.zmin();
   const double diagonal = std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -90,7 +178,7 @@ bool first_ray_hit(const MeshTree& tree, const Vec3& from, const Vec3& direction
   const double stretch = diagonal > 0.0 && length > 0.0 ? diagonal / length : 1.0;
   const TreeKernel::Vector_3 d(direction[0] * stretch, direction[1] * stretch,
                                direction[2] * stretch);
-  const auto hit = tree.tree.first_intersected_primitive(TreeKernel::Ray_3(p, d));
+  const auto hit = rays.first_intersected_primitive(TreeKernel::Ray_3(p, d));
   if (!hit) return false;
   const TreeKernel::Triangle_3& triangle = **hit;
   if (CGAL::orientation(triangle[0], triangle[1], triangle[2], p) == CGAL::COPLANAR &&
