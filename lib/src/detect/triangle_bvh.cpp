@@ -437,11 +437,11 @@ void TriangleBvh::build_over(const SceneTopology& topo, const std::vector<std::u
   build_over_boxes(std::move(boxes), tris, false);
 }
 
-TriangleBvh::TriangleBvh(const std::vector<Box3>& boxes) {
+TriangleBvh::TriangleBvh(std::vector<Box3> boxes) {
   if (boxes.empty()) return;
   std::vector<std::uint32_t> ids(boxes.size());
   for (std::size_t i = 0; i < ids.size(); ++i) ids[i] = static_cast<std::uint32_t>(i);
-  build_over_boxes(boxes, ids, true);
+  build_over_boxes(std::move(boxes), ids, true);
 }
 
 void TriangleBvh::build_over_boxes(std::vector<Box3> boxes, const std::vector<std::uint32_t>& tris,

@@ -26,7 +26,7 @@ class TriangleBvh {
   TriangleBvh(const SceneTopology& topology, const std::vector<std::uint32_t>& triangles);
   // Over triangles that are not a topology's, given by their boxes: entry i is boxes[i], and the
   // queries report i (a closest-point tree over copies of some triangles).
-  explicit TriangleBvh(const std::vector<Box3>& boxes);
+  explicit TriangleBvh(std::vector<Box3> boxes);
 
   // Recomputes every box from the current positions, keeping the tree (vertices moved a little:
   // iterations of fix). Queries stay exact; only their speed depends on how far things moved.

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "geometry/vec3.h"
 
@@ -27,7 +28,7 @@ std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
     out->ids.push_back(t);
     boxes.push_back(triangle_box(topo, t));
   }
-  out->boxes = TriangleBvh(boxes);
+  out->boxes = TriangleBvh(std::move(boxes));
   return out;
 }
 
