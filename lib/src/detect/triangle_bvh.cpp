@@ -7,33 +7,11 @@
 #include <utility>
 
 #include "detect/orientation.h"
+#include "geometry/morton.h"
 #include "geometry/vec3.h"
 
 namespace untangle {
 namespace {
-
-// Spreads the lower 10 bits of x to every third bit (30-bit Morton codes).
-std::uint32_t spread(std::uint32_t x) {
-  x &= 0x3ff;
-  x = (x | x << 16) & 0x030000ff;
-  x = (x | x << 8) & 0x0300f00f;
-  x = (x | x << 4) & 0x030c30c3;
-  x = (x | x << 2) & 0x09249249;
-  return x;
-}
-
-// Stable LSD radix sort of `order` by `code` (three passes of 10 bits): equal codes keep their
-// order, so the result is the order of (code, position) and deterministic.
-void sort_by_code(const std::vector<std::uint32_t>& code, std::vector<std::uint32_t>& order) {
-  std::vector<std::uint32_t> scratch(order.size());
-  for (int shift = 0; shift < 30; shift += 10) {
-    std::uint32_t count[1025] = {};
-    for (std::uint32_t i : order) ++count[((code[i] >> shift) & 1023u) + 1];
-    for (int k = 0; k < 1024; ++k) count[k + 1] += count[k];
-    for (std::uint32_t i : order) scratch[count[(code[i] >> shift) & 1023u]++] = i;
-    order.swap(scratch);
-  }
-}
 
 // The directions the flat-patch test projects along: the coordinate axes, then the six face
 // diagonals and the four body diagonals. Vectors of small integers, so every predicate along them
@@ -453,15 +431,9 @@ void TriangleBvh::build_over_boxes(std::vector<Box3> boxes, const std::vector<st
   // order are neighbours in space, so halving ranges builds a sound hierarchy with a single sort.
   std::vector<std::uint32_t> code(tris.size()), order(tris.size());
   for (std::size_t i = 0; i < tris.size(); ++i) {
-    std::uint32_t c = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double extent = all.hi[a] - all.lo[a];
-      const double centre = 0.5 * (boxes[i].lo[a] + boxes[i].hi[a]);
-      const double unit = extent > 0.0 ? (centre - all.lo[a]) / extent : 0.0;
-      const auto cell = static_cast<std::uint32_t>(std::min(std::max(unit, 0.0), 1.0) * 1023.0);
-      c |= spread(cell) << a;
-    }
-    code[i] = c;
+    Vec3 centre;
+    for (int a = 0; a < 3; ++a) centre[a] = 0.5 * (boxes[i].lo[a] + boxes[i].hi[a]);
+    code[i] = morton_code(centre, all);
     order[i] = static_cast<std::uint32_t>(i);  // i follows the triangle id order
   }
   sort_by_code(code, order);
@@ -525,15 +497,8 @@ std::uint32_t TriangleBvh::build(std::uint32_t first, std::uint32_t count,
       if (best == 0 || half - below < best - half) best = below;
     }
     if (best != 0) half = best;
-  } else if (code != nullptr && (*code)[first] != (*code)[first + count - 1]) {
-    // At the highest bit in which the range's first and last codes differ: the two halves of the
-    // octree cell the range fills (halved by count where every code is the same).
-    const std::uint32_t a = (*code)[first], b = (*code)[first + count - 1];
-    int bit = 31;
-    while (((a ^ b) >> bit & 1u) == 0) --bit;
-    const std::uint32_t upper = b >> bit << bit;  // b's prefix down to that bit, zeros below
-    const auto begin = code->begin() + first;
-    half = static_cast<std::uint32_t>(std::lower_bound(begin, begin + count, upper) - begin);
+  } else if (code != nullptr) {
+    half = code_split(*code, first, count);
   }
   const std::uint32_t left = build(first, half, cuts, code);
   const std::uint32_t right = build(first + half, count - half, cuts, code);
