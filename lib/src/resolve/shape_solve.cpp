@@ -8,6 +8,7 @@
 #include <Eigen/SVD>
 
 #include "detect/run_parallel.h"
+#include "geometry/ldlt_columns.h"
 
 namespace untangle {
 namespace {
@@ -162,17 +163,17 @@ void ShapeSolve::targets(const std::vector<Vec3>& points, const std::vector<std:
         for (std::size_t k = begin; k < end; ++k) rotation[turning[k]] = fit_rotation(cells[turning[k]], x);
       });
     }
-    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(rows, 3);
+    std::vector<std::array<double, 3>> rhs(static_cast<std::size_t>(rows), {0.0, 0.0, 0.0});
     // Each part vertex writes its own row.
     run_parallel(threads_, part_.size(), kGrain, [&](std::size_t begin, std::size_t end) {
       for (std::size_t i = begin; i < end; ++i) {
         const std::uint32_t v = part_[i];
         const double degree = topo_.vertex_edge_begin[v + 1] - topo_.vertex_edge_begin[v];
         if (fixed[i]) {
-          for (int c = 0; c < 3; ++c) rhs(i, c) = degree * x[v][c];
+          for (int c = 0; c < 3; ++c) rhs[i][c] = degree * x[v][c];
           continue;
         }
-        for (int c = 0; c < 3; ++c) rhs(i, c) += kAnchor * degree * x[v][c];
+        for (int c = 0; c < 3; ++c) rhs[i][c] += kAnchor * degree * x[v][c];
         const auto& rv = rotation[cell_of[v]];
         Vec3 wants{0.0, 0.0, 0.0};
         for (std::uint32_t j = topo_.vertex_edge_begin[v]; j < topo_.vertex_edge_begin[v + 1]; ++j) {
@@ -182,12 +183,12 @@ void ShapeSolve::targets(const std::vector<Vec3>& points, const std::vector<std:
           for (int c = 0; c < 3; ++c) {
             double turned = 0.0;
             for (int d = 0; d < 3; ++d) turned += 0.5 * (rv[3 * c + d] + rw[3 * c + d]) * r[d];
-            rhs(i, c) += turned;
+            rhs[i][c] += turned;
             wants[c] += turned + x[w][c];
           }
           const std::uint32_t l = local_[w];
           if (l == kNone || fixed[l])
-            for (int c = 0; c < 3; ++c) rhs(i, c) += x[w][c];
+            for (int c = 0; c < 3; ++c) rhs[i][c] += x[w][c];
         }
         if (held[i]) {
           // Toward the plane, at the point under where the ring alone would put the vertex (its
@@ -196,14 +197,14 @@ void ShapeSolve::targets(const std::vector<Vec3>& points, const std::vector<std:
           const Vec3& n = contacts[i].normal;
           const Vec3 free_at = scale(wants, 1.0 / degree);
           const Vec3 onto = sub(free_at, scale(n, dot(sub(free_at, contacts[i].point), n)));
-          for (int c = 0; c < 3; ++c) rhs(i, c) += kContact * degree * onto[c];
+          for (int c = 0; c < 3; ++c) rhs[i][c] += kContact * degree * onto[c];
         }
       }
     });
-    const Eigen::MatrixXd solved = solver_.solve(rhs);
+    ldlt_solve_columns(solver_, rhs);  // the same bits as Eigen's solve, the factor read once
     for (std::uint32_t i = 0; i < part_.size(); ++i)
       if (!fixed[i])
-        for (int c = 0; c < 3; ++c) x[part_[i]][c] = solved(i, c);
+        for (int c = 0; c < 3; ++c) x[part_[i]][c] = rhs[i][c];
     if (iteration < kHeldUpdates)
       for (std::uint32_t i = 0; i < part_.size(); ++i) held[i] = held[i] || below(i, x);
   }
