@@ -134,8 +134,8 @@ Closest closest_on(const MeshTree& tree, const Vec3& p) {
     inside = inside && norm(cross(edge, sub(at, a))) > 1e-12 * length2;
   }
   if (inside) return {at, tree.ids[found], squared};
-  // On a corner or an edge: the triangles holding that point (those whose boxes meet a box around
-  // it a millionth of the longest edge wide).
+  // On a corner or an edge: the triangles holding that point (those that meet a box around it a
+  // millionth of the longest edge wide, decided exactly, as CGAL's box query decided it).
   const double reach = 1e-6 * std::sqrt(longest2);
   Box3 box;
   for (int a = 0; a < 3; ++a) {
