@@ -443,8 +443,9 @@ void TriangleBvh::build_over_boxes(std::vector<Box3> boxes, const std::vector<st
     triangles_[i] = tris[order[i]];
     leaf_boxes_[i] = boxes[order[i]];
   }
-  // A binary tree over leaves of 2 to 4 triangles has fewer than tris.size() nodes.
-  nodes_.reserve(tris.size());
+  // A binary tree over leaves of 2 to 4 triangles has fewer than tris.size() nodes; split by code,
+  // leaves may hold one, and it has fewer than twice as many.
+  nodes_.reserve(split_by_code ? 2 * tris.size() : tris.size());
   if (split_by_code) {
     std::vector<std::uint32_t> sorted(order.size());
     for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = code[order[i]];

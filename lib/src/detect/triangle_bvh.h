@@ -65,8 +65,8 @@ class TriangleBvh {
       std::uint32_t node;
       double d2;
     };
-    // Each level pops one entry and pushes two: the stack holds at most the depth plus one (32 for
-    // 2^32 triangles in leaves of 2 to 4).
+    // Each level pops one entry and pushes two: the stack holds at most the depth plus one (under
+    // 64: 30 levels of Morton bits, then halving among equal codes).
     Entry stack[96];
     int top = 0;
     stack[top++] = {0u, squared_distance_to(nodes_[0].box, p)};
