@@ -3,12 +3,15 @@
 // Measured moves (issue 4): MeasuredMoves' count of a move equals the change of a full detection.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "detect/detect_crossings.h"
+#include "detect/pair_list.h"
 #include "detect/triangle_bvh.h"
 #include "resolve/measured_move.h"
 #include "scenes/scenes.h"
@@ -83,21 +86,36 @@ struct DetectSetup {
   bool obstacle_tree;  // the skipped meshes' tree given once (as fix does)
 };
 
-void run_rounds(const scenes::Scene& scene, const DetectSetup& setup, std::uint32_t seed) {
-  const std::vector<Mesh> meshes = scenes::scene_meshes(scene);
-  SceneTopology topo = build_topology(meshes);
+// A scene's topology and the detection settings of a setup (the obstacles' tree, when given once,
+// kept here).
+struct SetUp {
+  SceneTopology topo;
   DetectSettings settings;
-  settings.self_pairs = setup.self_pairs;
-  std::vector<bool> fixed;
-  for (const Mesh& m : meshes) fixed.push_back(m.role == Role::kObstacle);
+  std::vector<bool> fixed;  // per mesh: an obstacle
   std::unique_ptr<TriangleBvh> obstacle_tree;
+};
+
+std::unique_ptr<SetUp> set_up(const scenes::Scene& scene, const DetectSetup& setup) {
+  auto out = std::make_unique<SetUp>();
+  const std::vector<Mesh> meshes = scenes::scene_meshes(scene);
+  out->topo = build_topology(meshes);
+  out->settings.self_pairs = setup.self_pairs;
+  for (const Mesh& m : meshes) out->fixed.push_back(m.role == Role::kObstacle);
   if (setup.skip_obstacles) {
-    settings.skip_among = fixed;
+    out->settings.skip_among = out->fixed;
     if (setup.obstacle_tree) {
-      obstacle_tree = std::make_unique<TriangleBvh>(topo, fixed);
-      settings.skipped_bvh = obstacle_tree.get();
+      out->obstacle_tree = std::make_unique<TriangleBvh>(out->topo, out->fixed);
+      out->settings.skipped_bvh = out->obstacle_tree.get();
     }
   }
+  return out;
+}
+
+void run_rounds(const scenes::Scene& scene, const DetectSetup& setup, std::uint32_t seed) {
+  const std::unique_ptr<SetUp> up = set_up(scene, setup);
+  SceneTopology& topo = up->topo;
+  const DetectSettings& settings = up->settings;
+  const std::vector<bool>& fixed = up->fixed;
   SceneHierarchy hierarchy(topo, settings);
   CrossingSet current = detect_crossings(topo, settings);
   std::mt19937 random(seed);
@@ -136,6 +154,80 @@ INSTANTIATE_TEST_SUITE_P(Scenes, IncrementalDetection,
                                            "tube_around_body", "garment_four_loops",
                                            "sheet_on_spikes"),
                          [](const auto& info) { return info.param; });
+
+// The relaxation's list of candidate pairs (pair_list.h): a part of the movable vertices moves
+// round after round, by less than the list's reach, by about it and far beyond it (the listed
+// triangles at the corners that went beyond it are listed again); the update over the list gives
+// exactly what a full detection gives.
+void run_listed_rounds(const scenes::Scene& scene, const DetectSetup& setup, std::uint32_t seed) {
+  const std::unique_ptr<SetUp> up = set_up(scene, setup);
+  SceneTopology& topo = up->topo;
+  const DetectSettings& settings = up->settings;
+  const std::vector<bool>& fixed = up->fixed;
+  std::mt19937 random(seed);
+  // The part: a patch grown over the edges from a movable seed, as the relaxation's rings grow.
+  std::vector<std::uint8_t> in_part(topo.points.size(), 0);
+  std::vector<std::uint32_t> part;
+  for (int tries = 0; tries < 100 && part.empty(); ++tries) {
+    const auto v = static_cast<std::uint32_t>(random() % topo.points.size());
+    if (!fixed[topo.vertex_mesh[v]]) part.push_back(v), in_part[v] = 1;
+  }
+  ASSERT_FALSE(part.empty()) << scene.name;
+  for (std::size_t i = 0; i < part.size() && part.size() < 400; ++i)
+    for (std::uint32_t k = topo.vertex_edge_begin[part[i]]; k < topo.vertex_edge_begin[part[i] + 1];
+         ++k) {
+      const std::uint32_t w = topo.vertex_neighbors[k];
+      if (!in_part[w] && !fixed[topo.vertex_mesh[w]]) part.push_back(w), in_part[w] = 1;
+    }
+  std::vector<std::uint32_t> listed;
+  for (std::uint32_t t = 0; t < topo.tris.size(); ++t)
+    for (std::uint32_t v : topo.tris[t])
+      if (in_part[v]) {
+        listed.push_back(t);
+        break;
+      }
+  const double reach = 0.02;
+  PairList list(listed, reach);
+  SceneHierarchy hierarchy(topo, settings);
+  CrossingSet current = detect_crossings(topo, settings);
+  auto unit = [&] { return static_cast<double>(random() % 2001) / 1000.0 - 1.0; };
+  std::size_t refreshed_rounds = 0;
+  for (int round = 0; round < 30; ++round) {
+    // Within the reach, about it, or far beyond it; every third round on a grid of 1/64.
+    const double amount = reach * (round % 3 == 0 ? 0.4 : round % 3 == 1 ? 1.3 : 6.0);
+    const bool snap = round % 4 == 3;
+    std::vector<std::uint8_t> moved(topo.points.size(), 0);
+    for (std::uint32_t v : part) {
+      if (random() % 3 == 0) continue;
+      for (int k = 0; k < 3; ++k) {
+        double x = topo.points[v][k] + amount * unit();
+        if (snap) x = std::round(x * 64.0) / 64.0;
+        topo.points[v][k] = x;
+      }
+      moved[v] = 1;
+    }
+    const bool held = list.holds(topo);
+    hierarchy.update(topo, moved);
+    list.prepare(topo, settings, hierarchy);
+    ASSERT_TRUE(list.holds(topo)) << scene.name;
+    refreshed_rounds += round > 0 && !held;
+    current = update_crossings(topo, settings, list, current, moved);
+    expect_same(current, detect_crossings(topo, settings),
+                scene.name + " " + setup.name + " listed, round " + std::to_string(round));
+    if (::testing::Test::HasFailure()) return;
+  }
+  EXPECT_GE(refreshed_rounds, 10u) << "the rounds beyond the reach list triangles again";
+}
+
+TEST_P(IncrementalDetection, ListedPairsEqualFullDetectionAfterRandomMoves) {
+  for (const auto& scene : scenes::named_scenes()) {
+    if (scene.name != GetParam()) continue;
+    std::uint32_t seed = 23;
+    for (const DetectSetup& setup : kSetups) run_listed_rounds(scene, setup, seed++);
+    return;
+  }
+  FAIL() << "no scene " << GetParam();
+}
 
 // A step of fix measures candidate moves against the positions at its start, plus the moves it
 // already committed: after - before of every count must equal the change of the crossing count

@@ -1,16 +1,17 @@
 // Detection: bounding-volume hierarchies for candidate pairs, exact perturbed predicates for crossings.
 #include "detect/detect_crossings.h"
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <optional>
 
 #include "detect/cull_triangles.h"
 #include "detect/orientation.h"
+#include "detect/pair_list.h"
 #include "detect/run_parallel.h"
-
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <cmath>
 
 namespace untangle {
 namespace {
@@ -522,6 +523,51 @@ void SceneHierarchy::update(const SceneTopology& topo, const std::vector<std::ui
   }
 }
 
+namespace {
+
+// The narrow phase of an update for one candidate pair (t the retested triangle, or the lower of
+// two retested ones): the pruning test, then t's owned edges through u and u's through t.
+void test_pair(const SceneTopology& topo, std::uint32_t t, std::uint32_t u, const TriPlane& plane_t,
+               const TriPlane& plane_u, std::vector<RawCrossing>& out) {
+  const auto& tris = topo.detect_tris();
+  PairSides sides;
+  if (surely_apart_at(topo.points, tris[t], tris[u], plane_t, plane_u, sides)) return;
+  test_owned_edges(topo, t, u, sides.of_t, out);
+  test_owned_edges(topo, u, t, sides.of_u, out);
+}
+
+// The crossings after an update: those of `previous` whose edge and face kept all their vertices,
+// and those `found` among the retested pairs, sorted and unique.
+CrossingSet merge_update(const SceneTopology& topo, const CrossingSet& previous,
+                         const std::vector<std::uint8_t>& moved,
+                         const std::vector<std::vector<RawCrossing>>& found) {
+  CrossingSet set;
+  auto unmoved = [&](const RawCrossing& c) {
+    for (std::uint32_t v : topo.edges[c.edge])
+      if (moved[v]) return false;
+    for (std::uint32_t v : topo.tris[c.face])
+      if (moved[v]) return false;
+    return true;
+  };
+  for (const RawCrossing& c : previous.items)
+    if (unmoved(c)) set.items.push_back(c);
+  for (const auto& block : found) set.items.insert(set.items.end(), block.begin(), block.end());
+  auto key_less = [](const RawCrossing& a, const RawCrossing& b) {
+    return a.edge != b.edge ? a.edge < b.edge : a.face < b.face;
+  };
+  std::sort(set.items.begin(), set.items.end(), key_less);
+  // An unmoved crossing is found again when its edge's owner triangle has another corner that
+  // moved: keep one copy (both were computed from the same positions).
+  set.items.erase(std::unique(set.items.begin(), set.items.end(),
+                              [](const RawCrossing& a, const RawCrossing& b) {
+                                return a.edge == b.edge && a.face == b.face;
+                              }),
+                  set.items.end());
+  return set;
+}
+
+}  // namespace
+
 CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& settings,
                              const SceneHierarchy& hierarchy, const CrossingSet& previous,
                              const std::vector<std::uint8_t>& moved) {
@@ -637,39 +683,13 @@ CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& se
           // A pair of two retested triangles is tested once, from the lower one.
           if (u == t || (affected[u] && u < t)) return;
           if (shared_vertices(tris[t], tris[u]) >= 2) return;
-          PairSides sides;
-          if (surely_apart_at(topo.points, tris[t], tris[u], plane_of(t), plane_of(u), sides))
-            return;
-          test_owned_edges(topo, t, u, sides.of_t, found[j]);
-          test_owned_edges(topo, u, t, sides.of_u, found[j]);
+          test_pair(topo, t, u, plane_of(t), plane_of(u), found[j]);
         });
       }
     });
   }
 
-  CrossingSet set;
-  auto unmoved = [&](const RawCrossing& c) {
-    for (std::uint32_t v : topo.edges[c.edge])
-      if (moved[v]) return false;
-    for (std::uint32_t v : topo.tris[c.face])
-      if (moved[v]) return false;
-    return true;
-  };
-  for (const RawCrossing& c : previous.items)
-    if (unmoved(c)) set.items.push_back(c);
-  for (auto& block : found) set.items.insert(set.items.end(), block.begin(), block.end());
-  auto key_less = [](const RawCrossing& a, const RawCrossing& b) {
-    return a.edge != b.edge ? a.edge < b.edge : a.face < b.face;
-  };
-  std::sort(set.items.begin(), set.items.end(), key_less);
-  // An unmoved crossing is found again when its edge's owner triangle has another corner that
-  // moved: keep one copy (both were computed from the same positions).
-  set.items.erase(std::unique(set.items.begin(), set.items.end(),
-                              [](const RawCrossing& a, const RawCrossing& b) {
-                                return a.edge == b.edge && a.face == b.face;
-                              }),
-                  set.items.end());
-  return set;
+  return merge_update(topo, previous, moved, found);
 }
 
 std::vector<std::array<std::uint32_t, 2>> intersecting_pairs(const SceneTopology& topo,
@@ -690,6 +710,204 @@ std::vector<std::array<std::uint32_t, 2>> intersecting_pairs(const SceneTopology
   for (std::size_t i = 0; i < keys.size(); ++i)
     pairs[i] = {static_cast<std::uint32_t>(keys[i] >> 32), static_cast<std::uint32_t>(keys[i])};
   return pairs;
+}
+
+PairList::PairList(std::vector<std::uint32_t> triangles, double reach)
+    : triangles_(std::move(triangles)), reach_(reach) {}
+
+bool PairList::holds(const SceneTopology& topo) const {
+  if (!made_) return false;
+  for (std::size_t i = 0; i < corners_.size(); ++i) {
+    const Vec3& p = topo.points[corners_[i]];
+    for (int k = 0; k < 3; ++k)
+      if (!(std::abs(p[k] - at_[i][k]) <= reach_)) return false;
+  }
+  return true;
+}
+
+namespace {
+
+// A box grown by `grow` on every side, and by one more unit in the last place outward, so that
+// the rounding of the sums never shrinks it.
+Box3 grown_box(Box3 b, double grow) {
+  for (int k = 0; k < 3; ++k) {
+    b.lo[k] = std::nextafter(b.lo[k] - grow, -INFINITY);
+    b.hi[k] = std::nextafter(b.hi[k] + grow, INFINITY);
+  }
+  return b;
+}
+
+}  // namespace
+
+// Whether the pair (t listed, u) is one update_crossings would test, by the meshes' filters of
+// `settings` and the shared corners; `from_shared`: u came from the skipped meshes' shared tree.
+bool PairList::wanted(const SceneTopology& topo, const DetectSettings& settings, std::uint32_t t,
+                      std::uint32_t u, bool from_shared) const {
+  auto skipped = [&](std::size_t m) {
+    return m < settings.skip_among.size() && settings.skip_among[m];
+  };
+  const std::uint32_t tm = topo.tri_mesh[t], um = topo.tri_mesh[u];
+  if (from_shared) {
+    if (skipped(tm)) return false;
+  } else {
+    if (um == tm && !settings.self_pairs) return false;
+    if (skipped(um) && skipped(tm)) return false;
+  }
+  return u != t && shared_vertices(topo.detect_tris()[t], topo.detect_tris()[u]) < 2;
+}
+
+void PairList::prepare(const SceneTopology& topo, const DetectSettings& settings,
+                       const SceneHierarchy& hierarchy) {
+  const std::size_t meshes = topo.mesh_tri_begin.size() - 1;
+  std::vector<std::pair<const TriangleBvh*, bool>> trees;  // (tree, the skipped meshes' shared one)
+  for (std::size_t m = 0; m < meshes; ++m)
+    if (hierarchy.mesh(m) != nullptr) trees.push_back({hierarchy.mesh(m), false});
+  if (settings.skipped_bvh != nullptr) trees.push_back({settings.skipped_bvh, true});
+  if (!made_) {
+    make(topo, settings, trees);
+    return;
+  }
+  // The corners that went beyond the reach take their position now as their new reference; the
+  // listed triangles at them are listed again, grown by 4.5 reaches: every corner of theirs, and of
+  // any listed triangle, lies within the reach of its reference, so within twice the reach of
+  // where it is now, from now until the next refresh.
+  std::vector<std::uint8_t>& stale = scratch_;
+  stale.assign(topo.points.size(), 0);
+  bool any = false;
+  for (std::size_t i = 0; i < corners_.size(); ++i) {
+    const Vec3& p = topo.points[corners_[i]];
+    bool beyond = false;
+    for (int k = 0; k < 3; ++k) beyond = beyond || !(std::abs(p[k] - at_[i][k]) <= reach_);
+    if (!beyond) continue;
+    at_[i] = p;
+    stale[corners_[i]] = 1;
+    any = true;
+  }
+  if (!any) return;
+  std::vector<std::uint32_t> again;
+  for (const std::uint32_t t : triangles_) {
+    const auto& tri = topo.tris[t];
+    if (stale[tri[0]] || stale[tri[1]] || stale[tri[2]]) again.push_back(t);
+  }
+  std::vector<std::uint8_t> listing(topo.tris.size(), 0);
+  for (const std::uint32_t t : again) listing[t] = 1;
+  pairs_.erase(std::remove_if(pairs_.begin(), pairs_.end(),
+                              [&](const std::array<std::uint32_t, 2>& p) {
+                                return listing[p[0]] || listing[p[1]];
+                              }),
+               pairs_.end());
+  std::vector<std::uint32_t> near;
+  for (const std::uint32_t t : again) {
+    const Box3 box = grown_box(triangle_box(topo, t), 4.5 * reach_);
+    for (const auto& [tree, from_shared] : trees) {
+      near.clear();
+      tree->query(box, near);
+      std::sort(near.begin(), near.end());
+      for (const std::uint32_t u : near) {
+        // Two triangles listed again: once, from the lower.
+        if ((listing[u] && u < t) || !wanted(topo, settings, t, u, from_shared)) continue;
+        pairs_.push_back({t, u});
+      }
+    }
+  }
+}
+
+void PairList::make(const SceneTopology& topo, const DetectSettings& settings,
+                    const std::vector<std::pair<const TriangleBvh*, bool>>& trees) {
+  made_ = true;
+  pairs_.clear();
+  corners_.clear();
+  for (const std::uint32_t t : triangles_)
+    for (const std::uint32_t v : topo.tris[t]) corners_.push_back(v);
+  std::sort(corners_.begin(), corners_.end());
+  corners_.erase(std::unique(corners_.begin(), corners_.end()), corners_.end());
+  at_.resize(corners_.size());
+  for (std::size_t i = 0; i < corners_.size(); ++i) at_[i] = topo.points[corners_[i]];
+  if (triangles_.empty()) return;
+  // Each listed box grown by 2.5 reaches: every corner stays within the reach of where it is now
+  // (as holds() computes it: within the reach and a rounding) until it is listed again, so two
+  // boxes that overlap later come within twice the reach of each other now.
+  std::vector<Box3> boxes(triangles_.size());
+  for (std::size_t i = 0; i < triangles_.size(); ++i)
+    boxes[i] = grown_box(triangle_box(topo, triangles_[i]), 2.5 * reach_);
+  const TriangleBvh grown(std::move(boxes));
+  std::vector<std::uint8_t> listed(topo.tris.size(), 0);
+  for (const std::uint32_t t : triangles_) listed[t] = 1;
+  struct Job {
+    std::uint32_t tree;
+    TriangleBvh::Part part;
+  };
+  std::vector<Job> jobs;
+  for (std::size_t k = 0; k < trees.size(); ++k)
+    for (const TriangleBvh::Part& part : grown.split(*trees[k].first, false, kParts))
+      jobs.push_back({static_cast<std::uint32_t>(k), part});
+  std::vector<std::vector<std::array<std::uint32_t, 2>>> found(jobs.size());
+  run_parallel(settings.threads, jobs.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j) {
+      const auto& [tree, from_shared] = trees[jobs[j].tree];
+      grown.each_pair_in(*tree, jobs[j].part, false, [&](std::uint32_t x, std::uint32_t u) {
+        const std::uint32_t t = triangles_[x];
+        // Two listed triangles: once, from the lower (the higher meets the lower's tree too).
+        if ((listed[u] && u < t) || !wanted(topo, settings, t, u, from_shared)) return;
+        found[j].push_back({t, u});
+      });
+    }
+  });
+  for (const auto& block : found) pairs_.insert(pairs_.end(), block.begin(), block.end());
+}
+
+CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& settings,
+                             const PairList& list, const CrossingSet& previous,
+                             const std::vector<std::uint8_t>& moved) {
+  // The listed triangles with a moved corner (only they can have one), their planes and every
+  // listed triangle's box now.
+  const std::vector<std::uint32_t>& listed = list.triangles();
+  const auto& tris = topo.detect_tris();
+  std::vector<std::uint32_t> slot(topo.tris.size(), kNone);
+  std::vector<std::uint8_t> affected(listed.size(), 0);
+  std::vector<Box3> box(listed.size());
+  std::vector<TriPlane> planes(listed.size());
+  run_parallel(settings.threads, listed.size(), 1024, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::uint32_t t = listed[i];
+      slot[t] = static_cast<std::uint32_t>(i);
+      for (const std::uint32_t v : topo.tris[t]) affected[i] |= moved[v];
+      box[i] = triangle_box(topo, t);
+      if (affected[i]) planes[i] = tri_plane(topo.points, tris[t]);
+    }
+  });
+  auto skipped = [&](std::size_t m) {
+    return m < settings.skip_among.size() && settings.skip_among[m];
+  };
+  auto plane_of = [&](std::uint32_t t) {
+    const std::uint32_t i = slot[t];
+    if (i != kNone && affected[i]) return planes[i];
+    if (settings.skipped_planes && settings.skipped_bvh && skipped(topo.tri_mesh[t]))
+      return (*settings.skipped_planes)[t];
+    return tri_plane(topo.points, tris[t]);
+  };
+  // The pairs with a retested triangle whose boxes overlap now: the pairs the descents of
+  // update_crossings would test, tested as it tests them (the retested triangle first, the lower
+  // of two retested ones).
+  const auto& pairs = list.pairs();
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (pairs.size() + kBlock - 1) / kBlock;
+  std::vector<std::vector<RawCrossing>> found(blocks);
+  run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t b = begin; b < end; ++b) {
+      const std::size_t last = std::min(pairs.size(), (b + 1) * kBlock);
+      for (std::size_t k = b * kBlock; k < last; ++k) {
+        const auto [t, u] = pairs[k];
+        const std::uint32_t ut = slot[u];
+        const bool at = affected[slot[t]] != 0, au = ut != kNone && affected[ut] != 0;
+        if (!at && !au) continue;
+        if (!box[slot[t]].overlaps(ut != kNone ? box[ut] : triangle_box(topo, u))) continue;
+        const std::uint32_t first = at && (!au || t < u) ? t : u, second = first == t ? u : t;
+        test_pair(topo, first, second, plane_of(first), plane_of(second), found[b]);
+      }
+    }
+  });
+  return merge_update(topo, previous, moved, found);
 }
 
 }  // namespace untangle

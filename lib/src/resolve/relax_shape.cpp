@@ -19,6 +19,7 @@
 #include <cstring>
 #include <memory>
 
+#include "detect/pair_list.h"
 #include "geometry/vec3.h"
 #include "resolve/shape_solve.h"
 #include "resolve/surface_queries.h"
@@ -41,6 +42,8 @@ constexpr double kShrinkLeast = 0.2;  // a step refused until shorter than this 
 // before it: on the MakeHuman garments the largest edge ratio is reached within 4 to 8 sweeps,
 // and the sweeps after that (up to 40) moved a few retried vertices for seconds.
 constexpr double kPlateau = 0.01;
+// The reach of the relaxation's list of candidate pairs, in the part's shortest mean edge.
+constexpr double kListReach = 0.25;
 // The contact plane of a vertex whose step an obstacle refused lies this many clearances out from
 // then on. Per-vertex planes keep vertices out, not the edges between them: over a forearm or a
 // neck a cuff's or a collar's edge dips below its ends' planes by more than the clearance, and its
@@ -155,6 +158,29 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
   std::vector<double> lower(part.size(), INFINITY);
   if (obstacles)
     for (std::size_t i = 0; i < part.size(); ++i) lower[i] = distance(i, topo.points[part[i]]);
+
+  // The candidate pairs of the triangles the part moves, kept while their corners stay within a
+  // quarter of the part's shortest mean edge of where the list was made (pair_list.h): the passes
+  // and sweeps test those pairs instead of descending the hierarchies again. Only the speed
+  // depends on the reach.
+  std::vector<std::uint32_t> part_triangles;
+  double reach = 0.0;
+  {
+    std::vector<std::uint8_t> in_part(topo.points.size(), 0);
+    double shortest = INFINITY;
+    for (const std::uint32_t v : part) {
+      in_part[v] = 1;
+      shortest = std::min(shortest, measures.mean_edge[topo.vertex_mesh[v]]);
+    }
+    for (std::uint32_t t = 0; t < topo.tris.size(); ++t) {
+      const auto& tri = topo.tris[t];
+      if (in_part[tri[0]] || in_part[tri[1]] || in_part[tri[2]]) part_triangles.push_back(t);
+    }
+    part_triangles.shrink_to_fit();
+    if (!(shortest > 0.0) || !std::isfinite(shortest)) shortest = 0.0;
+    reach = kListReach * shortest;
+  }
+  PairList pairs(std::move(part_triangles), reach);
 
   ShapeSolve solve(topo, in.input, part, in.threads);
   std::vector<double> strains;  // after each accepted sweep
@@ -283,7 +309,12 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
       }
       hierarchy.update(topo, refit);
       std::fill(refit.begin(), refit.end(), 0);
-      carried = update_crossings(topo, in.detect, hierarchy, carried, stepped);
+      if (pairs.reach() > 0.0) {
+        pairs.prepare(topo, in.detect, hierarchy);
+        carried = update_crossings(topo, in.detect, pairs, carried, stepped);
+      } else {
+        carried = update_crossings(topo, in.detect, hierarchy, carried, stepped);
+      }
       find_inside_vertices(topo, measures.role, in.winding, near, in.threads, inside);
       // What a detection from the sweep's start over the trying vertices reports: the crossings
       // whose face, or the triangle that owns the edge (its lowest), has a corner away from the
