@@ -765,6 +765,7 @@ void PairList::prepare(const SceneTopology& topo, const DetectSettings& settings
   if (settings.skipped_bvh != nullptr) trees.push_back({settings.skipped_bvh, true});
   if (!made_) {
     make(topo, settings, trees);
+    index(topo);
     return;
   }
   // The corners that went beyond the reach take their position now as their new reference; the
@@ -810,6 +811,7 @@ void PairList::prepare(const SceneTopology& topo, const DetectSettings& settings
       }
     }
   }
+  index(topo);
 }
 
 void PairList::make(const SceneTopology& topo, const DetectSettings& settings,
@@ -856,54 +858,76 @@ void PairList::make(const SceneTopology& topo, const DetectSettings& settings,
   for (const auto& block : found) pairs_.insert(pairs_.end(), block.begin(), block.end());
 }
 
+void PairList::index(const SceneTopology& topo) {
+  if (slot_.size() != topo.tris.size()) {
+    slot_.assign(topo.tris.size(), kNone);
+    for (std::size_t i = 0; i < triangles_.size(); ++i)
+      slot_[triangles_[i]] = static_cast<std::uint32_t>(i);
+  }
+  // Each pair under both of its listed triangles, in the order of pairs_ (a counting sort).
+  adjacent_begin_.assign(triangles_.size() + 1, 0);
+  for (const auto& [t, u] : pairs_) {
+    ++adjacent_begin_[slot_[t] + 1];
+    if (slot_[u] != kNone) ++adjacent_begin_[slot_[u] + 1];
+  }
+  for (std::size_t i = 0; i < triangles_.size(); ++i) adjacent_begin_[i + 1] += adjacent_begin_[i];
+  adjacent_.resize(adjacent_begin_.back());
+  std::vector<std::uint32_t> next(adjacent_begin_.begin(), adjacent_begin_.end() - 1);
+  for (const auto& [t, u] : pairs_) {
+    adjacent_[next[slot_[t]]++] = u;
+    if (slot_[u] != kNone) adjacent_[next[slot_[u]]++] = t;
+  }
+}
+
 CrossingSet update_crossings(const SceneTopology& topo, const DetectSettings& settings,
                              const PairList& list, const CrossingSet& previous,
                              const std::vector<std::uint8_t>& moved) {
-  // The listed triangles with a moved corner (only they can have one), their planes and every
-  // listed triangle's box now.
+  // The listed triangles with a moved corner (only they can have one), their boxes now and planes.
   const std::vector<std::uint32_t>& listed = list.triangles();
   const auto& tris = topo.detect_tris();
-  std::vector<std::uint32_t> slot(topo.tris.size(), kNone);
   std::vector<std::uint8_t> affected(listed.size(), 0);
+  std::vector<std::uint32_t> retest;  // listed indices, ascending
+  for (std::size_t i = 0; i < listed.size(); ++i) {
+    for (const std::uint32_t v : topo.tris[listed[i]]) affected[i] |= moved[v];
+    if (affected[i]) retest.push_back(static_cast<std::uint32_t>(i));
+  }
   std::vector<Box3> box(listed.size());
   std::vector<TriPlane> planes(listed.size());
-  run_parallel(settings.threads, listed.size(), 1024, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      const std::uint32_t t = listed[i];
-      slot[t] = static_cast<std::uint32_t>(i);
-      for (const std::uint32_t v : topo.tris[t]) affected[i] |= moved[v];
-      box[i] = triangle_box(topo, t);
-      if (affected[i]) planes[i] = tri_plane(topo.points, tris[t]);
+  run_parallel(settings.threads, retest.size(), 1024, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::uint32_t t = listed[retest[k]];
+      box[retest[k]] = triangle_box(topo, t);
+      planes[retest[k]] = tri_plane(topo.points, tris[t]);
     }
   });
   auto skipped = [&](std::size_t m) {
     return m < settings.skip_among.size() && settings.skip_among[m];
   };
-  auto plane_of = [&](std::uint32_t t) {
-    const std::uint32_t i = slot[t];
-    if (i != kNone && affected[i]) return planes[i];
-    if (settings.skipped_planes && settings.skipped_bvh && skipped(topo.tri_mesh[t]))
-      return (*settings.skipped_planes)[t];
-    return tri_plane(topo.points, tris[t]);
-  };
-  // The pairs with a retested triangle whose boxes overlap now: the pairs the descents of
+  // The pairs of each retested triangle whose boxes overlap now: the pairs the descents of
   // update_crossings would test, tested as it tests them (the retested triangle first, the lower
   // of two retested ones).
-  const auto& pairs = list.pairs();
-  constexpr std::size_t kBlock = 4096;
-  const std::size_t blocks = (pairs.size() + kBlock - 1) / kBlock;
+  constexpr std::size_t kBlock = 256;
+  const std::size_t blocks = (retest.size() + kBlock - 1) / kBlock;
   std::vector<std::vector<RawCrossing>> found(blocks);
   run_parallel(settings.threads, blocks, 1, [&](std::size_t begin, std::size_t end) {
     for (std::size_t b = begin; b < end; ++b) {
-      const std::size_t last = std::min(pairs.size(), (b + 1) * kBlock);
+      const std::size_t last = std::min(retest.size(), (b + 1) * kBlock);
       for (std::size_t k = b * kBlock; k < last; ++k) {
-        const auto [t, u] = pairs[k];
-        const std::uint32_t ut = slot[u];
-        const bool at = affected[slot[t]] != 0, au = ut != kNone && affected[ut] != 0;
-        if (!at && !au) continue;
-        if (!box[slot[t]].overlaps(ut != kNone ? box[ut] : triangle_box(topo, u))) continue;
-        const std::uint32_t first = at && (!au || t < u) ? t : u, second = first == t ? u : t;
-        test_pair(topo, first, second, plane_of(first), plane_of(second), found[b]);
+        const std::uint32_t i = retest[k], t = listed[i];
+        for (const std::uint32_t u : list.adjacent(i)) {
+          const std::uint32_t j = list.slot(u);
+          const bool retested = j != kNone && affected[j];
+          if (retested && u < t) continue;  // tested from u, the lower
+          if (!box[i].overlaps(retested ? box[j] : triangle_box(topo, u))) continue;
+          TriPlane plane_u;
+          if (retested)
+            plane_u = planes[j];
+          else if (settings.skipped_planes && settings.skipped_bvh && skipped(topo.tri_mesh[u]))
+            plane_u = (*settings.skipped_planes)[u];
+          else
+            plane_u = tri_plane(topo.points, tris[u]);
+          test_pair(topo, t, u, planes[i], plane_u, found[b]);
+        }
       }
     }
   });

@@ -37,6 +37,18 @@ class PairList {
   double reach() const { return reach_; }
   const std::vector<std::uint32_t>& triangles() const { return triangles_; }
   const std::vector<std::array<std::uint32_t, 2>>& pairs() const { return pairs_; }
+  // The partners of listed triangle i (an index into triangles()) in the pairs, and the index of
+  // triangle t among the listed ones (kNone for another).
+  struct Range {
+    const std::uint32_t* first;
+    const std::uint32_t* last;
+    const std::uint32_t* begin() const { return first; }
+    const std::uint32_t* end() const { return last; }
+  };
+  Range adjacent(std::uint32_t i) const {
+    return {adjacent_.data() + adjacent_begin_[i], adjacent_.data() + adjacent_begin_[i + 1]};
+  }
+  std::uint32_t slot(std::uint32_t t) const { return slot_[t]; }
 
  private:
   std::vector<std::uint32_t> triangles_;
@@ -46,6 +58,11 @@ class PairList {
   std::vector<Vec3> at_;                // per corner: its reference position
   std::vector<std::array<std::uint32_t, 2>> pairs_;
   std::vector<std::uint8_t> scratch_;
+  std::vector<std::uint32_t> slot_;  // per triangle of the scene: its index in triangles_, or kNone
+  // The pairs by listed triangle (each under both of its listed triangles), CSR.
+  std::vector<std::uint32_t> adjacent_begin_, adjacent_;
+
+  void index(const SceneTopology& topology);
 
   void make(const SceneTopology& topology, const DetectSettings& settings,
             const std::vector<std::pair<const TriangleBvh*, bool>>& trees);
@@ -55,7 +72,7 @@ class PairList {
 
 // update_crossings (detect_crossings.h) with the pairs of `list` in place of the descents: the
 // same crossings, provided list.holds(topology) and every vertex flagged in `moved` is a corner of
-// a listed triangle.
+// a listed triangle. It walks the pairs of the listed triangles with a moved corner only.
 CrossingSet update_crossings(const SceneTopology& topology, const DetectSettings& settings,
                              const PairList& list, const CrossingSet& previous,
                              const std::vector<std::uint8_t>& moved);
