@@ -1,9 +1,10 @@
 // The candidate pairs of a set of triangles that move a little at a time (a Verlet list): found
-// once by a descent of the hierarchies with the triangles' boxes grown by twice a reach, then
-// reused by every update while no corner of theirs has moved farther than the reach. The
-// relaxation moves the same few thousand triangles pass after pass and sweep after sweep by a
-// fraction of an edge; each of its updates descended the hierarchies again and built trees over
-// the moved triangles and over the rest of their mesh.
+// once by a descent of the hierarchies with the triangles' boxes grown by more than twice a
+// reach, then reused by every update while no corner of theirs has moved farther than the reach
+// from its reference; the triangles at a corner that has are listed again alone. The relaxation
+// moves the same few thousand triangles pass after pass and sweep after sweep by a fraction of an
+// edge; each of its updates descended the hierarchies again and built trees over the moved
+// triangles and over the rest of their mesh.
 #pragma once
 
 #include <array>
@@ -36,7 +37,6 @@ class PairList {
 
   double reach() const { return reach_; }
   const std::vector<std::uint32_t>& triangles() const { return triangles_; }
-  const std::vector<std::array<std::uint32_t, 2>>& pairs() const { return pairs_; }
   // The partners of listed triangle i (an index into triangles()) in the pairs, and the index of
   // triangle t among the listed ones (kNone for another).
   struct Range {

@@ -160,9 +160,9 @@ RelaxShapeResult relax_shape(const RelaxShapeInputs& in, SceneTopology& topo,
     for (std::size_t i = 0; i < part.size(); ++i) lower[i] = distance(i, topo.points[part[i]]);
 
   // The candidate pairs of the triangles the part moves, kept while their corners stay within a
-  // quarter of the part's shortest mean edge of where the list was made (pair_list.h): the passes
-  // and sweeps test those pairs instead of descending the hierarchies again. Only the speed
-  // depends on the reach.
+  // quarter of the part's shortest mean edge of their references (pair_list.h): the passes and
+  // sweeps test those pairs instead of descending the hierarchies again. Only the speed depends
+  // on the reach.
   std::vector<std::uint32_t> part_triangles;
   double reach = 0.0;
   {
