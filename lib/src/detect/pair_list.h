@@ -62,7 +62,9 @@ class PairList {
   // The pairs by listed triangle (each under both of its listed triangles), CSR.
   std::vector<std::uint32_t> adjacent_begin_, adjacent_;
 
-  void index(const SceneTopology& topology);
+  void index();  // adjacent_ from pairs_
+  bool beyond(const Vec3& p,
+              const Vec3& reference) const;  // farther than the reach, per coordinate
 
   void make(const SceneTopology& topology, const DetectSettings& settings,
             const std::vector<std::pair<const TriangleBvh*, bool>>& trees);
