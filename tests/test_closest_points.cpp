@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "geometry/vec3.h"
+#include "resolve/mesh_tree_cgal.h"
 #include "resolve/surface_queries.h"
 #include "scenes/scenes.h"
 #include "topology/scene_topology.h"
@@ -23,9 +24,9 @@ namespace {
 // The nearest projection over all triangles of `tree`, decided exactly.
 TreeKernel::Point_3 brute_nearest(const MeshTree& tree, const TreeKernel::Point_3& q) {
   const auto project = TreeKernel().construct_projected_point_3_object();
-  TreeKernel::Point_3 best = project(tree.triangles[0], q);
-  for (std::size_t k = 1; k < tree.triangles.size(); ++k) {
-    const TreeKernel::Point_3 c = project(tree.triangles[k], q);
+  TreeKernel::Point_3 best = project(tree.cgal->triangles[0], q);
+  for (std::size_t k = 1; k < tree.cgal->triangles.size(); ++k) {
+    const TreeKernel::Point_3 c = project(tree.cgal->triangles[k], q);
     if (CGAL::compare_distance_to_point(q, c, best) == CGAL::SMALLER) best = c;
   }
   return best;
@@ -86,7 +87,7 @@ void check_meshes(const std::vector<Mesh>& meshes, const std::string& name,
       while (entry < tree->ids.size() && tree->ids[entry] != got.face) ++entry;
       const bool on_face =
           entry < tree->ids.size() &&
-          TreeKernel().construct_projected_point_3_object()(tree->triangles[entry], q) == c;
+          TreeKernel().construct_projected_point_3_object()(tree->cgal->triangles[entry], q) == c;
       const bool squared = got.squared == CGAL::squared_distance(q, c);
       if ((!nearest || !on_face || !squared) && ++wrong <= 3)
         ADD_FAILURE() << name << " mesh " << m << ": point (" << p[0] << ", " << p[1] << ", "

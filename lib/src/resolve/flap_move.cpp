@@ -105,7 +105,7 @@ void flap_move(const RepairContext& ctx, StepTools& tools, const CrossingSet& se
         patches[wide][k] = build_tree(topo, tris);
       }
       const MeshTree& tree = self ? *patches[wide][k] : tools.trees.component_tree(other, trees);
-      if (tree.triangles.empty()) continue;
+      if (tree.empty()) continue;
       auto beyond_edge = [&](std::uint32_t a, std::uint32_t b) {
         if (self) return rim.count({std::min(a, b), std::max(a, b)}) > 0;
         return topo.is_boundary(topo.find_edge(a, b));

@@ -52,7 +52,7 @@ void inside_move(const RepairContext& ctx, Scratch& scratch, SurfaceTrees& trees
     for (std::uint32_t c : it->second) {
       if (it->second.size() == 1) break;
       const MeshTree& tree = trees.component_tree(c, fresh);
-      if (tree.triangles.empty()) continue;
+      if (tree.empty()) continue;
       const Vec3& p = topo.points[v];
       const double d = closest_on(tree, p).squared;
       if (target == kNone || d < best) {

@@ -74,7 +74,7 @@ LayerOrder decide_layer_order(const RepairContext& ctx, SurfaceTrees& surfaces, 
   FreshTrees trees;
   const MeshTree& tree_a = surfaces.component_tree(a, trees);
   const MeshTree& tree_b = surfaces.component_tree(b, trees);
-  if (tree_a.triangles.empty() || tree_b.triangles.empty()) return {};
+  if (tree_a.empty() || tree_b.empty()) return {};
   const double near_a = 0.5 * ctx.measures.mean_edge[topo.component_mesh[a]];
   const double near_b = 0.5 * ctx.measures.mean_edge[topo.component_mesh[b]];
   long long vote_a = 0, vote_b = 0;
@@ -146,7 +146,7 @@ void lay_layer(const RepairContext& ctx, SurfaceTrees& surfaces, const CrossingS
   FreshTrees trees;
   const MeshTree& tree_a = surfaces.component_tree(a, trees);
   const MeshTree& tree_b = surfaces.component_tree(b, trees);
-  if (tree_a.triangles.empty() || tree_b.triangles.empty()) return;
+  if (tree_a.empty() || tree_b.empty()) return;
   const LayerOrder& order = orders.at({a, b});
   const std::uint32_t mover = order.mover;
   const std::uint32_t other = mover == a ? b : a;
@@ -292,7 +292,7 @@ void separate_coincident_layers(const RepairContext& ctx, SurfaceTrees& surfaces
     const std::uint32_t mesh = topo.component_mesh[mover];
     FreshTrees trees;
     const MeshTree* tree = &surfaces.component_tree(other, trees);
-    if (tree->triangles.empty()) continue;
+    if (tree->empty()) continue;
     const double clearance = ctx.options.clearance * ctx.measures.mean_edge[mesh];
     long long vote = 0;
     const std::vector<NearPoint> close =

@@ -247,7 +247,7 @@ FixResult run_layering(std::vector<Mesh>& meshes, const FixOptions& options, con
     if (meshes[topo.tri_mesh[t]].role == Role::kObstacle) obstacle_tris.push_back(t);
   const std::unique_ptr<MeshTree> tree = build_tree(topo, obstacle_tris);
   const auto closest = [&](const Vec3& p) {
-    if (tree->triangles.empty()) return p;  // every obstacle triangle degenerate: nothing to lay on
+    if (tree->empty()) return p;  // every obstacle triangle degenerate: nothing to lay on
     return closest_on(*tree, p).point;
   };
   const std::vector<Piece> pieces = pieces_of(topo, input);

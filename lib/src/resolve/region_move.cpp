@@ -55,7 +55,7 @@ std::vector<PartMoves> part_moves(const RepairContext& ctx, Scratch& scratch, st
                                   const MeshTree& tree) {
   const SceneTopology& topo = ctx.topo;
   std::vector<PartMoves> out;
-  if (tree.triangles.empty()) return out;
+  if (tree.empty()) return out;
   const double clearance = ctx.options.clearance * ctx.measures.mean_edge[mesh];
   std::vector<std::uint8_t>& member = scratch.member;
   for (std::uint32_t v : vertices) member[v] = 1;

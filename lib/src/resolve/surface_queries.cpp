@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "geometry/vec3.h"
+#include "resolve/mesh_tree_cgal.h"
 
 namespace untangle {
 
@@ -14,7 +15,7 @@ std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
   auto out = std::make_unique<MeshTree>();
   // Sized once: grown by doubling, the body's 27,300 triangles were copied and their pages first
   // touched several times over.
-  out->triangles.reserve(tris.size());
+  out->cgal->triangles.reserve(tris.size());
   out->ids.reserve(tris.size());
   std::vector<Box3> boxes;
   boxes.reserve(tris.size());
@@ -24,7 +25,7 @@ std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
       const Vec3& v = topo.points[tri[k]];
       return TreeKernel::Point_3(v[0], v[1], v[2]);
     };
-    out->triangles.emplace_back(p(0), p(1), p(2));
+    out->cgal->triangles.emplace_back(p(0), p(1), p(2));
     out->ids.push_back(t);
     boxes.push_back(triangle_box(topo, t));
   }
@@ -32,7 +33,10 @@ std::unique_ptr<MeshTree> build_tree(const SceneTopology& topo,
   return out;
 }
 
-const TriangleTree& MeshTree::ray_tree() const {
+MeshTree::MeshTree() : cgal(std::make_unique<MeshTreeCgal>()) {}
+MeshTree::~MeshTree() = default;
+
+const TriangleTree& MeshTreeCgal::ray_tree() const {
   std::call_once(rays_built_, [this] {
     rays_ = std::make_unique<TriangleTree>(triangles.begin(), triangles.end());
   });
@@ -95,7 +99,7 @@ Closest closest_on(const MeshTree& tree, const Vec3& p) {
   TreeKernel::Point_3 at_point;
   double squared = INFINITY;
   tree.boxes.nearest(p, [&](std::uint32_t k) {
-    const TreeKernel::Triangle_3& triangle = tree.triangles[k];
+    const TreeKernel::Triangle_3& triangle = tree.cgal->triangles[k];
     // A triangle surely farther than the nearest so far is not projected: the filter's distance
     // within a relative 1e-9 and a billionth of the coordinates' scale (its rounding is a few units
     // in the last place of the coordinates, and so is the projection's).
@@ -122,7 +126,7 @@ Closest closest_on(const MeshTree& tree, const Vec3& p) {
   // Inside its triangle, away from the corners and edges (by a millionth of a millionth of the
   // edge), the point is the triangle's alone: another triangle as close would have to lie at the
   // same distance across the gap, which only a symmetric scene gives.
-  const TreeKernel::Triangle_3& t = tree.triangles[found];
+  const TreeKernel::Triangle_3& t = tree.cgal->triangles[found];
   bool inside = true;
   double longest2 = 0.0;
   for (int k = 0; k < 3; ++k) {
@@ -150,9 +154,9 @@ Closest closest_on(const MeshTree& tree, const Vec3& p) {
   bool any = false;
   const CGAL::Bbox_3 exact_box(box.lo[0], box.lo[1], box.lo[2], box.hi[0], box.hi[1], box.hi[2]);
   for (std::uint32_t k : near) {
-    if (k != found && !CGAL::do_intersect(exact_box, tree.triangles[k])) continue;
+    if (k != found && !CGAL::do_intersect(exact_box, tree.cgal->triangles[k])) continue;
     const std::uint32_t face = tree.ids[k];
-    const TreeKernel::Point_3 c = project(tree.triangles[k], q);
+    const TreeKernel::Point_3 c = project(tree.cgal->triangles[k], q);
     const double d2 = CGAL::squared_distance(q, c);
     if (!any || d2 < best.squared || (d2 == best.squared && face < best.face)) {
       best = {Vec3{c.x(), c.y(), c.z()}, face, d2};
@@ -163,14 +167,14 @@ Closest closest_on(const MeshTree& tree, const Vec3& p) {
 }
 
 bool first_ray_hit(const MeshTree& tree, const Vec3& from, const Vec3& direction, Vec3& out) {
-  if (tree.triangles.empty()) return false;
+  if (tree.empty()) return false;
   const TreeKernel::Point_3 p(from[0], from[1], from[2]);
   // CGAL's ray is handed a direction as long as the tree's box diagonal: its traversal and the
   // coplanarity test below use from + d, which with a unit direction mixes the scene's length
   // with a fixed one, so that the primitive found (and so the continuation's plan) changed in its
   // last bits when the scene was scaled by 1024 (issue 21). Scaled by the diagonal, a scene scaled
   // by a power of two gives the same hits scaled. The hit point below is homogeneous either way.
-  const TriangleTree& rays = tree.ray_tree();
+  const TriangleTree& rays = tree.cgal->ray_tree();
   const CGAL::Bbox_3 box = rays.bbox();
   const double dx = box.xmax() - box.xmin(), dy = box.ymax() - box.ymin(),
                dz = box.zmax() - box.zmin();
@@ -259,7 +263,7 @@ bool SurfaceTrees::nearest_obstacle_point(const Vec3& p, Vec3& out) {
   for (std::uint32_t c = 0; c < topo_.component_mesh.size(); ++c) {
     if (measures_.movable_component(topo_, c) || measures_.closed[c] == 0) continue;
     const MeshTree& tree = component_tree(c, unused);
-    if (tree.triangles.empty()) continue;
+    if (tree.empty()) continue;
     const Vec3 point = closest_on(tree, p).point;
     const double d = norm(sub(p, point));
     if (d < best) {

@@ -5,29 +5,29 @@
 #include <cstdint>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include "detect/triangle_bvh.h"
 #include "resolve/scene_measures.h"
-#include "resolve/triangle_tree.h"
 #include "topology/scene_topology.h"
 
 namespace untangle {
 
+struct MeshTreeCgal;  // resolve/mesh_tree_cgal.h
+
 // The closest-point structure of some triangles at the positions it was built at: our own
 // hierarchy over their boxes for closest points (closest_on), CGAL's tree for rays
 // (first_ray_hit), built at the first ray: most trees never meet one, and CGAL's build with its
-// distance acceleration was 14% of the shipped pair's `fix` (issue 24).
+// distance acceleration was 14% of the shipped pair's `fix` (issue 24). The entries' CGAL
+// triangles and that tree are behind a pointer, so that the many files that include this header
+// do not parse CGAL's tree (7.6 s of every compile of theirs).
 struct MeshTree {
-  TreeTriangleList triangles;
-  std::vector<std::uint32_t> ids;  // global triangle id per entry
-  TriangleBvh boxes;               // over the entries of `triangles`
-  const TriangleTree& ray_tree() const;
-
- private:
-  mutable std::once_flag rays_built_;
-  mutable std::unique_ptr<TriangleTree> rays_;
+  MeshTree();
+  ~MeshTree();
+  std::vector<std::uint32_t> ids;      // global triangle id per entry
+  TriangleBvh boxes;                   // over the entries
+  std::unique_ptr<MeshTreeCgal> cgal;  // the entries' triangles, and the ray tree
+  bool empty() const { return ids.empty(); }
 };
 
 // Trees of movable components, built for one step (their positions change between steps).
